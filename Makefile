@@ -1,0 +1,82 @@
+# FreeFEM suite for impact/contact of an elastic disk on a moving foundation
+# (Murea 2023). `make` reproduces the paper's figures; `make check` runs the tests.
+# See README.md.
+
+SHELL := /bin/bash
+PYTHON ?= /usr/bin/python3
+RESULTS ?= results
+FIGURES ?= $(RESULTS)/figures
+SCENE ?= test1
+OUT ?= $(RESULTS)/$(SCENE)
+ARGS ?=
+T1_VALUES := 18 22 26
+
+EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
+RUN := edp/run.sh
+MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
+
+# Debian packages each target needs; see ../shared/notes/freefem-on-debian.md
+APT_PACKAGES := freefem++ libfreefem++ libfreefem++-dev gmsh python3-numpy python3-matplotlib python3-pytest
+
+.PHONY: all paper deps meshes run test1 test2 figures check scenes clean
+.DELETE_ON_ERROR:
+
+all: paper
+paper: test1 test2 figures
+	@echo "figures: $(FIGURES)/ (fig1..fig7, PNG and PDF)"
+
+# ---- dependencies: installed with apt-get as root, otherwise the command is printed
+deps:
+	@missing=""; \
+	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \
+	[ -f /usr/lib/freefem++/ff-Ipopt.so ] || missing="$$missing libfreefem++"; \
+	[ -f /usr/include/freefem++/idp/getARGV.idp ] || missing="$$missing libfreefem++-dev"; \
+	command -v gmsh >/dev/null || missing="$$missing gmsh"; \
+	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
+	$(PYTHON) -c 'import matplotlib' 2>/dev/null || missing="$$missing python3-matplotlib"; \
+	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest"; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "installing:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
+	  else \
+	    echo "missing:$$missing"; echo "run as root:  apt-get update && apt-get install -y$$missing"; exit 1; \
+	  fi; \
+	fi
+
+# ---- meshes: the paper's disk (refine 1) and a coarser and a finer one
+meshes: $(MESHES)
+meshes/disk.msh: REFINE = 1
+meshes/disk_coarse.msh: REFINE = 0.5
+meshes/disk_fine.msh: REFINE = 2
+meshes/%.msh: meshes/disk.geo | deps
+	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 || { cat $@.log; exit 1; }
+	@rm -f $@.log
+	@$(PYTHON) postprocess/mesh_counts.py $@
+
+# ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
+run: meshes/disk.msh | deps
+	$(RUN) $(SCENE) $(OUT) $(ARGS)
+
+# ---- the paper's tests (results are rebuilt when the code or scene changes)
+test1: $(RESULTS)/test1/history.csv
+test2: $(RESULTS)/test1/history.csv $(foreach t1,$(T1_VALUES),$(RESULTS)/test2_t1_$(t1)/history.csv)
+
+$(RESULTS)/test1/history.csv: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.msh | deps
+	FORCE=1 $(RUN) test1 $(@D)
+$(RESULTS)/test2_t1_%/history.csv: edp/scenes/test2.idp $(EDP_SOURCES) meshes/disk.msh | deps
+	FORCE=1 $(RUN) test2 $(@D) -t1 $*
+
+figures: test1 test2
+	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference ../shared/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)
+
+# ---- tests
+check: meshes | deps
+	$(PYTHON) -m pytest -q tests
+
+# ---- every scene with the first line of its comment
+scenes:
+	@for f in edp/scenes/*.idp; do printf '%-12s %s\n' "$$(basename $$f .idp)" "$$(head -1 $$f | sed 's|^// *||')"; done
+
+clean:
+	rm -rf $(RESULTS) meshes/*.msh tests/__pycache__ .pytest_cache

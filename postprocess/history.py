@@ -1,0 +1,60 @@
+"""Read a run's history.csv and derive what the paper reports from it."""
+import csv
+import os
+
+import numpy as np
+
+
+def read_csv(path):
+    """A headed CSV as a dict of float arrays (lines starting with # are skipped)."""
+    with open(path) as f:
+        rows = [line for line in f if not line.startswith("#")]
+    reader = csv.reader(rows)
+    header = next(reader)
+    data = np.array([[float(x) for x in row] for row in reader if row])
+    return {name: data[:, k] for k, name in enumerate(header)}
+
+
+def read_run(run_dir):
+    return read_csv(os.path.join(run_dir, "history.csv"))
+
+
+def contact_intervals(t, in_contact, min_gap=0.5):
+    """Time intervals of contact; gaps shorter than min_gap (chatter) are merged."""
+    intervals = []
+    start = None
+    for k in range(len(t)):
+        if in_contact[k] and start is None:
+            start = t[k]
+        if not in_contact[k] and start is not None:
+            intervals.append([start, t[k - 1]])
+            start = None
+    if start is not None:
+        intervals.append([start, t[-1]])
+    merged = []
+    for iv in intervals:
+        if merged and iv[0] - merged[-1][1] < min_gap:
+            merged[-1][1] = iv[1]
+        else:
+            merged.append(iv)
+    return merged
+
+
+def rebound_peaks(t, u2, intervals):
+    """Highest u2 between consecutive contact intervals: (time, height) pairs."""
+    peaks = []
+    for (_, end), (start, _) in zip(intervals[:-1], intervals[1:]):
+        s = (t > end) & (t < start)
+        if s.any():
+            k = np.argmax(np.where(s, u2, -np.inf))
+            peaks.append((t[k], u2[k]))
+    return peaks
+
+
+def read_freefem_mesh(path):
+    """FreeFEM .msh (savemesh): vertices (x, y) and triangles (0-based)."""
+    with open(path) as f:
+        nv, nt, _ = (int(x) for x in f.readline().split())
+        xy = np.array([[float(x) for x in f.readline().split()[:2]] for _ in range(nv)])
+        tri = np.array([[int(x) - 1 for x in f.readline().split()[:3]] for _ in range(nt)])
+    return xy, tri
