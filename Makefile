@@ -15,9 +15,6 @@ EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-# Debian packages each target needs; see ../shared/notes/freefem-on-debian.md
-APT_PACKAGES := freefem++ libfreefem++ libfreefem++-dev gmsh python3-numpy python3-matplotlib python3-pytest
-
 .PHONY: all paper deps meshes run test1 test2 figures check scenes clean
 .DELETE_ON_ERROR:
 
@@ -25,7 +22,8 @@ all: paper
 paper: test1 test2 figures
 	@echo "figures: $(FIGURES)/ (fig1..fig7, PNG and PDF)"
 
-# ---- dependencies: installed with apt-get as root, otherwise the command is printed
+# ---- dependencies (Debian packages; see ../shared/notes/freefem-on-debian.md):
+# installed with apt-get as root, otherwise the command is printed and make stops
 deps:
 	@missing=""; \
 	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \

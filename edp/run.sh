@@ -39,7 +39,13 @@ if [ -e "$out/history.csv" ] && [ "${FORCE:-0}" != 1 ]; then
 fi
 mkdir -p "$out" 2>/dev/null && [ -w "$out" ] || { echo "error: output directory $out cannot be written" >&2; exit 3; }
 cp "$scene_file" "$out/scene.idp"
-printf 'sb yes\n' > "$out/ipopt.opt"     # no IPOPT banner; IPOPT reads this from the working directory
+# IPOPT reads ipopt.opt from the working directory; its options override the script's.
+cat > "$out/ipopt.opt" <<'OPT'
+# no banner
+sb yes
+# keep C x <= g exactly (the default 1e-8 relaxation lets the body sink ~3e-8 into the foundation)
+bound_relax_factor 0
+OPT
 
 export FF_LOADPATH=/usr/lib/freefem++
 export FF_INCLUDEPATH="$(cd "$out" && pwd);/usr/include/freefem++/idp"

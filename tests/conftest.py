@@ -1,0 +1,61 @@
+"""Shared runs for the tests: every simulation the tests need is started once
+per session, two at a time (the machines have 2 cores), in a temporary directory."""
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "postprocess"))
+
+from history import read_run  # noqa: E402
+
+RUN = os.path.join(ROOT, "edp", "run.sh")
+
+# name: (scene, options). Horizons cover the first bounce and the rebound after it.
+RUNS = {
+    "test1": ("test1", ["-T", "45"]),
+    "test1_qp_every_step": ("test1", ["-T", "30", "-skip_free", "0"]),
+    "test2_t1_18": ("test2", ["-T", "45", "-t1", "18"]),
+    "test2_t1_22": ("test2", ["-T", "45", "-t1", "22"]),
+    "test2_t1_26": ("test2", ["-T", "45", "-t1", "26"]),
+}
+
+
+def run_scene(scene, out, args, check=True):
+    """edp/run.sh SCENE OUT ARGS; returns the CompletedProcess."""
+    p = subprocess.run([RUN, scene, out] + list(args), capture_output=True, text=True,
+                       env=dict(os.environ, FORCE="1"))
+    if check and p.returncode != 0:
+        raise AssertionError(f"{scene} {' '.join(args)} failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+@pytest.fixture(scope="session")
+def runs(tmp_path_factory):
+    base = tmp_path_factory.mktemp("runs")
+    pending = list(RUNS.items())
+    active = []
+    while pending or active:
+        while pending and len(active) < 2:
+            name, (scene, args) = pending.pop(0)
+            out = str(base / name)
+            proc = subprocess.Popen([RUN, scene, out, "-progress", "0", "-vtk", "0"] + args,
+                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                    env=dict(os.environ, FORCE="1"))
+            active.append((name, out, proc))
+        time.sleep(0.2)
+        for item in list(active):
+            name, out, proc = item
+            if proc.poll() is not None:
+                log = proc.stdout.read()
+                assert proc.returncode == 0, f"run {name} failed ({proc.returncode}):\n{log}"
+                active.remove(item)
+    return {name: str(base / name) for name in RUNS}
+
+
+@pytest.fixture(scope="session")
+def histories(runs):
+    return {name: read_run(d) for name, d in runs.items()}
