@@ -15,7 +15,7 @@ EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps meshes run test1 test2 figures check scenes clean
+.PHONY: all paper deps meshes run test1 test2 figures check bench scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -71,6 +71,10 @@ figures: test1 test2
 # ---- tests
 check: meshes | deps
 	$(PYTHON) -m pytest -q tests
+
+# ---- cost, measured side by side in one run (see postprocess/bench.py)
+bench: meshes | deps
+	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- every scene with the first line of its comment
 scenes:
