@@ -66,7 +66,7 @@ $(RESULTS)/test2_t1_%/history.csv: edp/scenes/test2.idp $(EDP_SOURCES) meshes/di
 	FORCE=1 $(RUN) test2 $(@D) -t1 $*
 
 figures: test1 test2
-	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference ../shared/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)
+	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)
 
 # ---- tests
 check: meshes | deps

@@ -21,6 +21,12 @@ RUNS = {
     "test2_t1_18": ("test2", ["-T", "45", "-t1", "18"]),
     "test2_t1_22": ("test2", ["-T", "45", "-t1", "22"]),
     "test2_t1_26": ("test2", ["-T", "45", "-t1", "26"]),
+    # scenes beyond the paper, on short horizons
+    "freeflight": ("freeflight", []),
+    "incline": ("incline", ["-T", "10"]),
+    "oblique": ("oblique", ["-T", "15"]),
+    "rising": ("rising", ["-T", "20"]),
+    "wave": ("wave", ["-T", "25"]),
 }
 
 

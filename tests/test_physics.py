@@ -8,7 +8,7 @@ from conftest import ROOT
 from history import contact_intervals, read_csv, rebound_peaks
 
 TOL = 1e-8                # IPOPT tol of the runs
-REFERENCE = os.path.join(ROOT, "..", "shared", "reference", "getfem-verlet-nitsche-test1.csv")
+REFERENCE = os.path.join(ROOT, "tests", "reference", "getfem-verlet-nitsche-test1.csv")   # copy of ../shared/reference
 T1_VALUES = (18, 22, 26)
 
 
