@@ -19,6 +19,10 @@ BAD = [
     (["-skip_free", "1.5"], "-skip_free must be an integer"),
     (["-snapshots", "200"], "-snapshots must be in [0, T]"),
     (["-solver", "magic"], "-solver must be ipopt"),
+    (["-material", "svk"], "-material must be linear"),
+    (["-probes", "0,40,17"], "-probes must be x,y pairs"),
+    (["-angle", "75"], "-angle must be in (-60, 60)"),
+    (["-foundation", "user"], "-foundation user needs the scene to define"),
     (["-mesh", "meshes/no-such-file.msh"], "-mesh meshes/no-such-file.msh: file missing or unreadable"),
 ]
 
