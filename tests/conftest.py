@@ -27,6 +27,7 @@ RUNS = {
     "oblique": ("oblique", ["-T", "15"]),
     "rising": ("rising", ["-T", "20"]),
     "wave": ("wave", ["-T", "25"]),
+    "bump": ("bump", ["-T", "30"]),
 }
 
 

@@ -30,7 +30,17 @@ def test_oblique_impact_conserves_horizontal_momentum(histories):
     assert h["max_penetration"].max() <= 1e-8
 
 
-@pytest.mark.parametrize("name", ["rising", "wave"])
+def test_bump_user_foundation_pushes_the_disk_aside(histories):
+    """A user-written fixed psi: the disk lands left of the bump's peak and is pushed to -x;
+    with a fixed foundation, u^n is in K^{n+1}, so the modified energy never increases."""
+    h = histories["bump"]
+    assert h["v1_mean"][-1] < -0.05
+    m = h["modified_energy"]
+    assert np.diff(m).max() <= 1e-8 * abs(m[0])
+    assert h["max_penetration"].max() <= 1e-8
+
+
+@pytest.mark.parametrize("name", ["rising", "wave", "bump"])
 def test_moving_foundations_stay_stable(histories, name):
     h = histories[name]
     assert np.isfinite(np.column_stack(list(h.values()))).all()
