@@ -4,7 +4,8 @@ For each case: wall seconds, CPU seconds of the FreeFEM process, peak memory
 (max RSS), steps, steps that needed a QP, and milliseconds per step. Then the
 ratios asked for:
   - Test 1 with -skip_free 1 (default) against -skip_free 0: same answer, how much faster;
-  - the cost per step on three meshes of the same disk.
+  - -solver activeset against ipopt on Test 1 and Test 2;
+  - the cost per step on three meshes of the same disk, for both solvers.
 Cases run one at a time, so they do not compete for the 2 cores. Writes
 results/bench/bench.md and bench.csv.
 """
@@ -48,31 +49,46 @@ def main():
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     cases = [
-        ("test1 skip_free=1", "test1", ["-T", a.T]),
-        ("test1 skip_free=0", "test1", ["-T", a.T, "-skip_free", "0"]),
-        ("test2 t1=18", "test2", ["-T", a.T, "-t1", "18"]),
-        ("test1 coarse mesh T=40", "test1", ["-T", "40", "-mesh", "meshes/disk_coarse.msh"]),
-        ("test1 paper mesh T=40", "test1", ["-T", "40"]),
-        ("test1 fine mesh T=40", "test1", ["-T", "40", "-mesh", "meshes/disk_fine.msh"]),
+        ("test1 ipopt", "test1", ["-T", a.T]),
+        ("test1 ipopt skip_free=0", "test1", ["-T", a.T, "-skip_free", "0"]),
+        ("test1 activeset", "test1", ["-T", a.T, "-solver", "activeset"]),
+        ("test2 ipopt", "test2", ["-T", a.T, "-t1", "18"]),
+        ("test2 activeset", "test2", ["-T", a.T, "-t1", "18", "-solver", "activeset"]),
     ]
+    meshes = [("coarse", "meshes/disk_coarse.msh"), ("paper", "meshes/disk.msh"), ("fine", "meshes/disk_fine.msh")]
+    for solver in ("ipopt", "activeset"):
+        for mesh, path in meshes:
+            cases.append((f"test1 {solver} {mesh} mesh T=40", "test1", ["-T", "40", "-mesh", path, "-solver", solver]))
     rows = []
     for name, scene, args in cases:
         print(f"bench: {name} ...", flush=True)
         rows.append(run_case(a.out, name.replace(" ", "_").replace("=", ""), scene, args))
         rows[-1]["case"] = name
     by = {r["case"]: r for r in rows}
-    lines = ["| case | wall s | CPU s | peak MiB | steps | QP steps | ms/step |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    lines = ["| case | wall s | CPU s | peak MiB | steps | QP steps | ms/step |",
+             "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         lines.append(f"| {r['case']} | {r['wall_s']:.1f} | {r['cpu_s']:.1f} | {r['peak_MiB']:.0f} | {r['steps']} | "
                      f"{r['qp_steps']} | {r['ms_per_step']:.2f} |")
-    s1, s0 = by["test1 skip_free=1"], by["test1 skip_free=0"]
-    du = np.abs(s1["history"]["u2_low"] - s0["history"]["u2_low"]).max()
-    lines += ["", f"skip_free: -skip_free 1 is {s0['wall_s'] / s1['wall_s']:.2f}x faster than -skip_free 0 on Test 1 "
-                  f"(T = {a.T}), max |u2_low difference| = {du:.2g}"]
-    c, m, f = by["test1 coarse mesh T=40"], by["test1 paper mesh T=40"], by["test1 fine mesh T=40"]
-    lines.append("mesh scaling (ms per step, T = 40): coarse {:.2f}, paper {:.2f} ({:.2f}x), fine {:.2f} ({:.2f}x)".format(
-        c["ms_per_step"], m["ms_per_step"], m["ms_per_step"] / c["ms_per_step"], f["ms_per_step"],
-        f["ms_per_step"] / m["ms_per_step"]))
+
+    def u2_gap(x, y):
+        return np.abs(by[x]["history"]["u2_low"] - by[y]["history"]["u2_low"]).max()
+
+    def ratio(slow, fast):
+        return by[slow]["wall_s"] / by[fast]["wall_s"]
+
+    lines += ["",
+              f"- skip_free: -skip_free 1 is {ratio('test1 ipopt skip_free=0', 'test1 ipopt'):.2f}x faster than "
+              f"-skip_free 0 on Test 1 (T = {a.T}); max |u2_low difference| {u2_gap('test1 ipopt', 'test1 ipopt skip_free=0'):.2g}",
+              f"- activeset against ipopt, Test 1 (T = {a.T}): {ratio('test1 ipopt', 'test1 activeset'):.1f}x less wall time; "
+              f"max |u2_low difference| {u2_gap('test1 ipopt', 'test1 activeset'):.2g} (IPOPT's own error at tol 1e-8)",
+              f"- activeset against ipopt, Test 2 t1 = 18 (T = {a.T}): {ratio('test2 ipopt', 'test2 activeset'):.1f}x less wall time; "
+              f"max |u2_low difference| {u2_gap('test2 ipopt', 'test2 activeset'):.2g}"]
+    for solver in ("ipopt", "activeset"):
+        c, m, f = (by[f"test1 {solver} {mesh} mesh T=40"] for mesh, _ in meshes)
+        lines.append(f"- mesh scaling, {solver} (ms per step, T = 40): coarse (277) {c['ms_per_step']:.2f}, "
+                     f"paper (989) {m['ms_per_step']:.2f} ({m['ms_per_step'] / c['ms_per_step']:.1f}x), "
+                     f"fine (3750) {f['ms_per_step']:.2f} ({f['ms_per_step'] / m['ms_per_step']:.1f}x)")
     text = "\n".join(lines)
     print(text)
     with open(os.path.join(a.out, "bench.md"), "w") as fh:

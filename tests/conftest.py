@@ -21,6 +21,11 @@ RUNS = {
     "test2_t1_18": ("test2", ["-T", "45", "-t1", "18"]),
     "test2_t1_22": ("test2", ["-T", "45", "-t1", "22"]),
     "test2_t1_26": ("test2", ["-T", "45", "-t1", "26"]),
+    # the exact active-set solver against IPOPT converged further (tol 1e-10)
+    "test1_activeset": ("test1", ["-T", "30", "-solver", "activeset"]),
+    "test1_ipopt_tight": ("test1", ["-T", "30", "-tol", "1e-10"]),
+    "test2_activeset": ("test2", ["-T", "30", "-solver", "activeset"]),
+    "test2_ipopt_tight": ("test2", ["-T", "30", "-tol", "1e-10"]),
     # scenes beyond the paper, on short horizons
     "freeflight": ("freeflight", []),
     "incline": ("incline", ["-T", "10"]),

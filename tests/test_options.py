@@ -18,7 +18,7 @@ BAD = [
     (["-dt", "0.1x"], "-dt must be a number, got '0.1x'"),
     (["-skip_free", "1.5"], "-skip_free must be an integer"),
     (["-snapshots", "200"], "-snapshots must be in [0, T]"),
-    (["-solver", "magic"], "-solver must be ipopt"),
+    (["-solver", "magic"], "-solver must be ipopt or activeset"),
     (["-material", "svk"], "-material must be linear"),
     (["-probes", "0,40,17"], "-probes must be x,y pairs"),
     (["-angle", "75"], "-angle must be in (-60, 60)"),
