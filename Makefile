@@ -15,7 +15,7 @@ EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps meshes run test1 test2 figures check bench scenes clean
+.PHONY: all paper deps meshes run test1 test2 figures check bench accuracy scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -75,6 +75,10 @@ check: meshes | deps
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
 bench: meshes | deps
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
+
+# ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
+accuracy: meshes | deps
+	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
 
 # ---- every scene with the first line of its comment
 scenes:

@@ -1,0 +1,145 @@
+"""`make accuracy`: what accuracy costs in time (work-precision study).
+
+Test 1 to T = 40 (first bounce and the flight after it) over
+  dt in {0.2, 0.1, 0.05, 0.025, 0.0125} x meshes {coarse, paper, fine}
+  x solvers {IPOPT tol 1e-6, 1e-8, 1e-10, activeset},
+and Test 2 (t1 = 18) on a smaller grid. The reference solution is the finest
+run (fine mesh, dt = 0.0125, activeset). For each run, against it:
+  - max and L2-in-time error of u2_low(t), on the times all runs share (t = 0.2 k);
+  - error of the first contact interval's start and end;
+  - the modified energy lost over the first bounce, and its error;
+and the cost: wall and CPU seconds per run and per step, peak memory.
+Observed orders: in dt on each mesh (against that mesh's dt = 0.0125 run),
+in h at dt = 0.0125 (against the fine mesh).
+Writes results/accuracy/table.csv, table.md, orders.md, work_precision.png/pdf.
+"""
+import argparse
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench import ROOT, run_case  # noqa: E402
+from history import contact_intervals  # noqa: E402
+
+DTS = [0.2, 0.1, 0.05, 0.025, 0.0125]
+MESHES = {"coarse": ("meshes/disk_coarse.msh", 277), "paper": ("meshes/disk.msh", 989),
+          "fine": ("meshes/disk_fine.msh", 3750)}
+SOLVERS = {"ipopt 1e-6": ["-solver", "ipopt", "-tol", "1e-6"], "ipopt 1e-8": ["-solver", "ipopt", "-tol", "1e-8"],
+           "ipopt 1e-10": ["-solver", "ipopt", "-tol", "1e-10"], "activeset": ["-solver", "activeset"]}
+T = 40.0
+SAMPLE = 0.2           # every dt of the grid divides it
+
+
+def sampled(h):
+    """u2_low at t = 0.2 k, k = 0..T/0.2 (exact grid points of every run)."""
+    k = np.rint(h["t"] / SAMPLE)
+    on_grid = np.abs(h["t"] - k * SAMPLE) < 1e-9
+    return h["u2_low"][on_grid]
+
+
+def first_bounce(h):
+    start, end = contact_intervals(h["t"], h["active_nodes"] > 0)[0]
+    m = h["modified_energy"]
+    lost = np.interp(start - 1e-9, h["t"], m) - np.interp(end + 1e-9, h["t"], m)
+    return start, end, lost
+
+
+def errors(h, ref):
+    e = sampled(h) - sampled(ref)
+    s, e_, lost = first_bounce(h)
+    rs, re, rlost = first_bounce(ref)
+    return {"err_max": np.abs(e).max(), "err_l2": np.sqrt(SAMPLE * (e ** 2).sum() / T),
+            "contact_start": s, "contact_end": e_, "err_start": abs(s - rs), "err_end": abs(e_ - re),
+            "energy_lost": lost, "err_energy_lost": abs(lost - rlost)}
+
+
+def order(xs, ys):
+    """Least-squares slope of log(y) against log(x)."""
+    xs, ys = np.array(xs), np.array(ys)
+    keep = ys > 0
+    return np.polyfit(np.log(xs[keep]), np.log(ys[keep]), 1)[0] if keep.sum() >= 2 else float("nan")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--out", default=os.path.join(ROOT, "results", "accuracy"))
+    p.add_argument("--quick", action="store_true", help="a small grid, to try the script")
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    dts = DTS[1:4] if a.quick else DTS
+    meshes = {k: v for k, v in MESHES.items() if not a.quick or k != "fine"}
+    solvers = {k: v for k, v in SOLVERS.items() if not a.quick or k in ("ipopt 1e-8", "activeset")}
+    runs = {}
+    grid = [("test1", m, dt, s) for m in meshes for s in solvers for dt in dts]
+    grid += [("test2", "paper", dt, s) for s in ("ipopt 1e-8", "activeset") for dt in (0.1, 0.05, 0.025, 0.0125)
+             if not a.quick or dt in dts]
+    for n, (test, mesh, dt, solver) in enumerate(grid):
+        name = f"{test}_{mesh}_dt{dt}_{solver.replace(' ', '')}"
+        print(f"accuracy [{n + 1}/{len(grid)}]: {name}", flush=True)
+        args = ["-T", str(T), "-dt", str(dt), "-mesh", meshes[mesh][0]] + solvers[solver]
+        if test == "test2":
+            args += ["-t1", "18"]
+        runs[(test, mesh, dt, solver)] = run_case(a.out, name, test, args)
+    finest_mesh = list(meshes)[-1]
+    rows = []
+    for (test, mesh, dt, solver), r in runs.items():
+        ref = runs[(test, finest_mesh if test == "test1" else "paper", dts[-1], "activeset")]["history"]
+        row = {"test": test, "mesh": mesh, "vertices": meshes[mesh][1], "dt": dt, "solver": solver,
+               "wall_s": r["wall_s"], "cpu_s": r["cpu_s"], "ms_per_step": r["ms_per_step"],
+               "peak_MiB": r["peak_MiB"], "steps": r["steps"], "qp_steps": r["qp_steps"]}
+        row.update(errors(r["history"], ref))
+        rows.append(row)
+    keys = list(rows[0])
+    with open(os.path.join(a.out, "table.csv"), "w") as f:
+        f.write(",".join(keys) + "\n")
+        for row in rows:
+            f.write(",".join(f"{row[k]:.6g}" if isinstance(row[k], float) else str(row[k]) for k in keys) + "\n")
+    md = ["| test | mesh | dt | solver | wall s | ms/step | peak MiB | max err u2 | L2 err u2 | err contact start / end | energy lost (err) |",
+          "| --- | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |"]
+    for r in rows:
+        md.append(f"| {r['test']} | {r['mesh']} | {r['dt']} | {r['solver']} | {r['wall_s']:.1f} | {r['ms_per_step']:.2f} | "
+                  f"{r['peak_MiB']:.0f} | {r['err_max']:.2e} | {r['err_l2']:.2e} | {r['err_start']:.2f} / {r['err_end']:.2f} | "
+                  f"{r['energy_lost']:.3f} ({r['err_energy_lost']:.3f}) |")
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+
+    # observed orders: dt on each mesh against its own finest dt; h at the finest dt against the finest mesh
+    orders = ["| what | errors (max over t of u2_low) | observed order |", "| --- | --- | ---: |"]
+    for mesh in meshes:
+        own = runs[("test1", mesh, dts[-1], "activeset")]["history"]
+        errs = [np.abs(sampled(runs[("test1", mesh, dt, "activeset")]["history"]) - sampled(own)).max() for dt in dts[:-1]]
+        orders.append(f"| dt, {mesh} mesh (dt = {', '.join(map(str, dts[:-1]))}) | "
+                      f"{', '.join(f'{e:.2e}' for e in errs)} | {order(dts[:-1], errs):.2f} |")
+    hs = [1 / np.sqrt(meshes[m][1]) for m in list(meshes)[:-1]]
+    errs = [np.abs(sampled(runs[("test1", m, dts[-1], "activeset")]["history"])
+                   - sampled(runs[("test1", finest_mesh, dts[-1], "activeset")]["history"])).max() for m in list(meshes)[:-1]]
+    orders.append(f"| h, dt = {dts[-1]} ({', '.join(list(meshes)[:-1])} against {finest_mesh}) | "
+                  f"{', '.join(f'{e:.2e}' for e in errs)} | {order(hs, errs):.2f} |")
+    with open(os.path.join(a.out, "orders.md"), "w") as f:
+        f.write("\n".join(orders) + "\n")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for mesh in meshes:
+        for solver in solvers:
+            sel = [r for r in rows if r["test"] == "test1" and r["mesh"] == mesh and r["solver"] == solver and r["err_max"] > 0]
+            if sel:
+                ax.loglog([r["wall_s"] for r in sel], [r["err_max"] for r in sel], "o-", label=f"{mesh}, {solver}")
+    ax.set(xlabel="wall seconds (Test 1, T = 40)", ylabel="max error of u2_low against the finest run",
+           title="Work-precision: Test 1")
+    ax.legend(fontsize=7)
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(a.out, f"work_precision.{ext}"), dpi=150, bbox_inches="tight")
+    print("\n".join(md))
+    print()
+    print("\n".join(orders))
+    print(f"written to {a.out}/")
+
+
+if __name__ == "__main__":
+    main()
