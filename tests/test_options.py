@@ -22,6 +22,7 @@ BAD = [
     (["-material", "svk"], "-material must be linear"),
     (["-probes", "0,40,17"], "-probes must be x,y pairs"),
     (["-angle", "75"], "-angle must be in (-60, 60)"),
+    (["-checkpoint_every", "0"], "-checkpoint_every must be >= 1"),
     (["-foundation", "user"], "-foundation user needs the scene to define"),
     (["-mesh", "meshes/no-such-file.msh"], "-mesh meshes/no-such-file.msh: file missing or unreadable"),
 ]
@@ -47,6 +48,13 @@ def test_mesh_without_contact_label(tmp_path):
     subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
     p = run_scene("test1", str(tmp_path / "out"), ["-mesh", str(msh)], check=False)
     assert p.returncode != 0 and "has no boundary label 1" in p.stderr, p.stderr
+
+
+def test_mesh_that_is_not_msh22(tmp_path):
+    bad = tmp_path / "bad.msh"
+    bad.write_text("not a mesh\n")
+    p = run_scene("test1", str(tmp_path / "out"), ["-mesh", str(bad)], check=False)
+    assert p.returncode == 3 and "not a gmsh MSH 2.2 file" in p.stderr, p.stderr
 
 
 def test_unwritable_output_directory(tmp_path):
