@@ -15,7 +15,7 @@ EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps meshes run test1 test2 figures check bench accuracy scenes clean
+.PHONY: all paper deps meshes run test1 test2 figures check bench accuracy stress scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -79,6 +79,10 @@ bench: meshes | deps
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
 accuracy: meshes | deps
 	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
+
+# ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md
+stress: meshes | deps
+	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress
 
 # ---- every scene with the first line of its comment
 scenes:

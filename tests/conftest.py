@@ -11,6 +11,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "postprocess"))
 
 from history import read_run  # noqa: E402
+from stress import FAST, case_args  # noqa: E402
 
 RUN = os.path.join(ROOT, "edp", "run.sh")
 
@@ -34,6 +35,8 @@ RUNS = {
     "wave": ("wave", ["-T", "25"]),
     "bump": ("bump", ["-T", "30"]),
 }
+# the fast subset of make stress (postprocess/stress.py)
+RUNS.update({f"stress: {name}": case_args(name, horizon) for name, horizon in FAST.items()})
 
 
 def run_scene(scene, out, args, check=True):

@@ -1,0 +1,133 @@
+"""`make stress`: hard cases, each with the criteria it must pass.
+
+Criteria for every case:
+  - every value of history.csv finite;
+  - the solver succeeds on every step (a failed step stops the run: exit 4);
+  - penetration (violation of (10)) no larger than the solver tolerance, 1e-8;
+  - the energy bound that applies:
+      f = 0 (Prop. 2, foundation fixed or decreasing): the discrete energy
+        rho/2|v|^2 + a(u,u)/2 does not increase from step to step;
+      gravity, foundation fixed or decreasing: the modified energy does not
+        increase (take w = u^n in (1); f is constant);
+    both up to the solver tolerance, 1e-8 of the energy's size.
+Writes results/stress/summary.md (one row per case). `FAST` is the subset
+that `make check` runs, on shorter horizons.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from history import contact_intervals, read_run  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RUN = os.path.join(ROOT, "edp", "run.sh")
+TOL = 1e-8
+
+# name: (scene, options, energy bound, what it stresses)
+CASES = {
+    "dt 0.5": ("test1", ["-dt", "0.5"], "modified", "large time step"),
+    "dt 1": ("test1", ["-dt", "1"], "modified", "large time step"),
+    "dt 2": ("test1", ["-dt", "2"], "modified", "large time step"),
+    "v0y -2": ("test1", ["-v0y", "-2", "-T", "60"], "modified", "fast impact"),
+    "v0y -5": ("test1", ["-v0y", "-5", "-T", "60"], "modified", "fast impact"),
+    "v0y -10": ("test1", ["-v0y", "-10", "-T", "60"], "modified", "fast impact"),
+    "lambda 3000": ("test1", ["-lambda", "3000", "-T", "60"], "modified", "near incompressible"),
+    "lambda 30000": ("test1", ["-lambda", "30000", "-T", "60"], "modified", "near incompressible"),
+    "stiff lambda = mu = 3000": ("test1", ["-lambda", "3000", "-mu", "3000", "-T", "60"], "modified", "stiff body"),
+    "soft lambda = mu = 3": ("test1", ["-lambda", "3", "-mu", "3", "-T", "60"], "modified", "soft body"),
+    "fast drop t1 = t0 + 0.5": ("test2", ["-t1", "9.5", "-T", "60"], "modified", "foundation drops faster than the disk"),
+    "long T = 1000": ("test1", ["-T", "1000", "-snapshots", "none"], "modified", "long horizon, 30+ bounces"),
+    "refined mesh (refine 2)": ("test1", ["-mesh", "meshes/disk_fine.msh", "-T", "60"], "modified", "finer mesh"),
+    "f = 0, fixed foundation": ("test1", ["-fy", "0", "-v0y", "-1", "-T", "40"], "prop2", "Prop. 2 setting"),
+    "f = 0, decreasing foundation": ("test2", ["-fy", "0", "-v0y", "-1", "-t0", "2", "-t1", "8", "-T", "40"], "prop2",
+                                     "Prop. 2 setting"),
+}
+# the subset in make check, with its shorter horizon
+FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast drop t1 = t0 + 0.5": "20",
+        "f = 0, fixed foundation": "15", "f = 0, decreasing foundation": "15"}
+
+
+def case_args(name, horizon=None):
+    """(scene, options) of a case; horizon replaces its -T."""
+    scene, args, _, _ = CASES[name]
+    args = list(args)
+    if horizon is not None:
+        args = [a for i, a in enumerate(args) if not (a == "-T" or (i > 0 and args[i - 1] == "-T"))] + ["-T", horizon]
+    return scene, args
+
+
+def run(name, out, horizon=None):
+    scene, args = case_args(name, horizon)
+    t0 = time.perf_counter()
+    p = subprocess.run([RUN, scene, out, "-progress", "0", "-vtk", "0"] + args, capture_output=True, text=True,
+                       env=dict(os.environ, FORCE="1"))
+    return p, time.perf_counter() - t0
+
+
+def evaluate(name, out, returncode, stderr):
+    """The case's metrics and the list of failed criteria."""
+    bound = CASES[name][2]
+    failures = []
+    if returncode != 0:
+        failures.append(f"run failed ({returncode}): {stderr.strip()}")
+        if not os.path.exists(os.path.join(out, "history.csv")):
+            return {"steps": 0}, failures
+    h = read_run(out)
+    if not np.isfinite(np.column_stack(list(h.values()))).all():
+        failures.append("non-finite values")
+    energy = h["energy"] if bound == "prop2" else h["modified_energy"]
+    gain = float(np.diff(energy).max()) if len(energy) > 1 else 0.0
+    scale = max(1.0, float(np.abs(energy).max()))
+    penetration = float(h["max_penetration"].max())
+    if penetration > TOL:
+        failures.append(f"penetration {penetration:.3g} > {TOL:g}")
+    if gain > TOL * scale:
+        failures.append(f"{'energy' if bound == 'prop2' else 'modified energy'} rises by {gain:.3g} in a step "
+                        f"(> {TOL:g} x {scale:.4g})")
+    if (h["solver_status"] != 0).any() and (h["solver_status"] != 1).any():
+        failures.append("a step ended with a solver failure")
+    metrics = {"steps": len(h["t"]) - 1, "energy": "energy" if bound == "prop2" else "modified",
+               "max_gain": gain, "rel_gain": gain / scale, "max_penetration": penetration,
+               "max_active": int(h["active_nodes"].max()), "qp_steps": int(h["qp_solved"].sum()),
+               "bounces": len(contact_intervals(h["t"], h["active_nodes"] > 0))}
+    return metrics, failures
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--out", default=os.path.join(ROOT, "results", "stress"))
+    p.add_argument("--fast", action="store_true", help="only the make check subset")
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    names = list(FAST) if a.fast else list(CASES)
+    lines = ["| case | stresses | steps | energy bound | max one-step gain (relative) | max penetration | "
+             "max active nodes | contact intervals | failures | seconds |",
+             "| --- | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: |"]
+    failed = 0
+    for name in names:
+        print(f"stress: {name} ...", flush=True)
+        out = os.path.join(a.out, name.replace(" ", "_").replace("=", "").replace("+", "plus"))
+        proc, seconds = run(name, out, FAST[name] if a.fast else None)
+        m, failures = evaluate(name, out, proc.returncode, proc.stderr)
+        failed += bool(failures)
+        if m["steps"]:
+            lines.append(f"| {name} | {CASES[name][3]} | {m['steps']} | {m['energy']} non-increasing | "
+                         f"{m['max_gain']:.2g} ({m['rel_gain']:.1e}) | {m['max_penetration']:.1e} | {m['max_active']} | "
+                         f"{m['bounces']} | {'; '.join(failures) or 'none'} | {seconds:.1f} |")
+        else:
+            lines.append(f"| {name} | {CASES[name][3]} | 0 | | | | | | {'; '.join(failures)} | {seconds:.1f} |")
+    text = "\n".join(lines)
+    with open(os.path.join(a.out, "summary.md"), "w") as f:
+        f.write(text + "\n")
+    print(text)
+    print(f"{len(names) - failed} passed, {failed} failed")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
