@@ -43,6 +43,8 @@ CASES = {
     "fast drop t1 = t0 + 0.5": ("test2", ["-t1", "9.5", "-T", "60"], "modified", "foundation drops faster than the disk"),
     "long T = 1000": ("test1", ["-T", "1000", "-snapshots", "none"], "modified", "long horizon, 30+ bounces"),
     "refined mesh (refine 2)": ("test1", ["-mesh", "meshes/disk_fine.msh", "-T", "60"], "modified", "finer mesh"),
+    "twice-refined mesh (refine 4)": ("test1", ["-mesh", "meshes/disk_refine4.msh", "-T", "30"], "modified",
+                                      "mesh refined twice (about 15000 vertices)"),
     "f = 0, fixed foundation": ("test1", ["-fy", "0", "-v0y", "-1", "-T", "40"], "prop2", "Prop. 2 setting"),
     "f = 0, decreasing foundation": ("test2", ["-fy", "0", "-v0y", "-1", "-t0", "2", "-t1", "8", "-T", "40"], "prop2",
                                      "Prop. 2 setting"),

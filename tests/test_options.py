@@ -72,3 +72,15 @@ def test_existing_results_are_not_overwritten(tmp_path):
                        env={k: v for k, v in os.environ.items() if k != "FORCE"})
     assert p.returncode != 0 and "FORCE=1" in p.stderr
     assert (out / "history.csv").read_text() == "precious\n"
+
+
+def test_bad_input_leaves_an_earlier_run_untouched(tmp_path):
+    out = tmp_path / "out"
+    run_scene("test1", str(out), ["-T", "0.2", "-progress", "0"])
+    before = {f: (out / f).read_bytes() for f in ("history.csv", "parameters.txt", "mesh.msh")}
+    bad = tmp_path / "bad.msh"
+    bad.write_text("not a mesh\n")
+    for args in (["-dt", "-1"], ["-mesh", str(bad)], ["-foundation", "user"]):
+        p = run_scene("test1", str(out), args, check=False)      # FORCE=1: it may overwrite, but must fail first
+        assert p.returncode == 3, p.stderr
+        assert {f: (out / f).read_bytes() for f in before} == before, f"{args} touched the earlier results"
