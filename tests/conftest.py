@@ -27,6 +27,8 @@ RUNS = {
     "test1_ipopt_tight": ("test1", ["-T", "30", "-tol", "1e-10"]),
     "test2_activeset": ("test2", ["-T", "30", "-solver", "activeset"]),
     "test2_ipopt_tight": ("test2", ["-T", "30", "-tol", "1e-10"]),
+    # the LU factorisation of A (UMFPACK) against the default Cholesky (CHOLMOD)
+    "test2_activeset_lu": ("test2", ["-T", "30", "-solver", "activeset", "-factorization", "lu"]),
     # scenes beyond the paper, on short horizons
     "freeflight": ("freeflight", []),
     "incline": ("incline", ["-T", "10"]),

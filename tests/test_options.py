@@ -19,6 +19,7 @@ BAD = [
     (["-skip_free", "1.5"], "-skip_free must be an integer"),
     (["-snapshots", "200"], "-snapshots must be in [0, T]"),
     (["-solver", "magic"], "-solver must be ipopt or activeset"),
+    (["-factorization", "qr"], "-factorization must be cholesky or lu"),
     (["-material", "svk"], "-material must be linear"),
     (["-probes", "0,40,17"], "-probes must be x,y pairs"),
     (["-angle", "75"], "-angle must be in (-60, 60)"),

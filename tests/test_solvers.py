@@ -28,3 +28,13 @@ def test_activeset_is_exact(histories, test):
 def test_activeset_modified_energy_never_increases_on_the_fixed_foundation(histories):
     m = histories["test1_activeset"]["modified_energy"]
     assert np.diff(m).max() < 1e-9 * abs(m[0])
+
+
+def test_cholesky_and_lu_factorisations_agree(histories):
+    # -factorization cholesky (default) and lu factorise the same A: round-off apart
+    a, b = histories["test2_activeset"], histories["test2_activeset_lu"]
+    assert (a["active_nodes"] == b["active_nodes"]).all()
+    for col in ("u2_low", "u1_low", "v2_low"):
+        diff = np.abs(a[col] - b[col])
+        k = int(np.argmax(diff))
+        assert diff[k] < 1e-9, f"{col} differs by {diff[k]:.3g} at t = {a['t'][k]}"
