@@ -78,7 +78,7 @@ bench: meshes | deps
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
-accuracy: meshes | deps
+accuracy: meshes meshes/disk_refine4.msh | deps
 	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
 
 # ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md

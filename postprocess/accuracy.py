@@ -4,17 +4,19 @@ Test 1 to T = 40 (first bounce and the flight after it) over
   dt in {0.2, 0.1, 0.05, 0.025, 0.0125} x meshes {coarse, paper, fine}
   x solvers {IPOPT tol 1e-6, 1e-8, 1e-10, activeset}
 (on the fine mesh only activeset at every dt and IPOPT 1e-8 at dt >= 0.05),
-and Test 2 (t1 = 18) on a smaller grid. The reference solution is the finest
-run (fine mesh, dt = 0.0125, activeset). For each run, against it:
+plus the twice-refined mesh (refine 4) with activeset at dt <= 0.05, and
+Test 2 (t1 = 18) on a smaller grid. The reference solution is the finest
+run (refine-4 mesh, dt = 0.0125, activeset). For each run, against it:
   - max and L2-in-time error of u2_low(t), on the times all runs share (t = 0.2 k);
   - error of the first contact interval's start and end;
   - the modified energy lost over the first bounce, and its error;
 and the cost: wall and CPU seconds per run and per step, peak memory.
 Observed orders: in dt on each mesh (against that mesh's dt = 0.0125 run),
-in h at dt = 0.0125 (against the fine mesh).
+in h at dt = 0.0125 (coarse, paper and fine against the refine-4 mesh).
 Writes results/accuracy/table.csv, table.md, orders.md, work_precision.png/pdf.
 """
 import argparse
+import csv
 import os
 import sys
 
@@ -26,11 +28,11 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench import ROOT, run_case  # noqa: E402
-from history import contact_intervals  # noqa: E402
+from history import contact_intervals, read_run  # noqa: E402
 
 DTS = [0.2, 0.1, 0.05, 0.025, 0.0125]
 MESHES = {"coarse": ("meshes/disk_coarse.msh", 277), "paper": ("meshes/disk.msh", 989),
-          "fine": ("meshes/disk_fine.msh", 3750)}
+          "fine": ("meshes/disk_fine.msh", 3750), "refine4": ("meshes/disk_refine4.msh", 14570)}
 SOLVERS = {"ipopt 1e-6": ["-solver", "ipopt", "-tol", "1e-6"], "ipopt 1e-8": ["-solver", "ipopt", "-tol", "1e-8"],
            "ipopt 1e-10": ["-solver", "ipopt", "-tol", "1e-10"], "activeset": ["-solver", "activeset"]}
 T = 40.0
@@ -67,24 +69,45 @@ def order(xs, ys):
     return np.polyfit(np.log(xs[keep]), np.log(ys[keep]), 1)[0] if keep.sum() >= 2 else float("nan")
 
 
+def in_grid(mesh, solver, dt):
+    """Every setting on the coarse and paper meshes. On the fine mesh, where an IPOPT
+    step costs 80 ms, the active-set solver at every dt and IPOPT 1e-8 at dt >= 0.05;
+    on the refine-4 mesh, the reference, the active-set solver at dt <= 0.05."""
+    if mesh == "fine":
+        return solver == "activeset" or (solver == "ipopt 1e-8" and dt >= 0.05)
+    if mesh == "refine4":
+        return solver == "activeset" and dt <= 0.05
+    return True
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "accuracy"))
     p.add_argument("--quick", action="store_true", help="a small grid, to try the script")
+    p.add_argument("--reuse", action="store_true",
+                   help="rebuild the tables and the plot from the runs and costs already in --out, running only what is missing")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     dts = DTS[1:4] if a.quick else DTS
-    meshes = {k: v for k, v in MESHES.items() if not a.quick or k != "fine"}
+    meshes = {k: v for k, v in MESHES.items() if not a.quick or k in ("coarse", "paper")}
     solvers = {k: v for k, v in SOLVERS.items() if not a.quick or k in ("ipopt 1e-8", "activeset")}
     runs = {}
-    # every solver setting on the coarse and paper meshes; on the fine mesh (an IPOPT step
-    # costs 80 ms there) the active-set solver at every dt and IPOPT 1e-8 at dt >= 0.05
-    grid = [("test1", m, dt, s) for m in meshes for s in solvers for dt in dts
-            if m != "fine" or s == "activeset" or (s == "ipopt 1e-8" and dt >= 0.05)]
+    grid = [("test1", m, dt, s) for m in meshes for s in solvers for dt in dts if in_grid(m, s, dt)]
     grid += [("test2", "paper", dt, s) for s in ("ipopt 1e-8", "activeset") for dt in (0.1, 0.05, 0.025, 0.0125)
              if not a.quick or dt in dts]
+    measured = {}
+    if a.reuse and os.path.exists(os.path.join(a.out, "table.csv")):
+        with open(os.path.join(a.out, "table.csv")) as f:
+            for row in csv.DictReader(f):
+                measured[(row["test"], row["mesh"], float(row["dt"]), row["solver"])] = row
     for n, (test, mesh, dt, solver) in enumerate(grid):
         name = f"{test}_{mesh}_dt{dt}_{solver.replace(' ', '')}"
+        old = measured.get((test, mesh, dt, solver))
+        if old and os.path.exists(os.path.join(a.out, name, "history.csv")):
+            h = read_run(os.path.join(a.out, name))
+            runs[(test, mesh, dt, solver)] = dict({k: float(old[k]) for k in ("wall_s", "cpu_s", "ms_per_step", "peak_MiB")},
+                                                  steps=int(old["steps"]), qp_steps=int(old["qp_steps"]), history=h)
+            continue
         print(f"accuracy [{n + 1}/{len(grid)}]: {name}", flush=True)
         args = ["-T", str(T), "-dt", str(dt), "-mesh", meshes[mesh][0]] + solvers[solver]
         if test == "test2":
@@ -114,29 +137,38 @@ def main():
         f.write("\n".join(md) + "\n")
 
     # observed orders: dt on each mesh against its own finest dt; h at the finest dt against the finest mesh
-    orders = ["| what | errors (max over t of u2_low) | observed order |", "| --- | --- | ---: |"]
+    orders = ["| what | errors of u2_low (max over t unless said) | observed order |", "| --- | --- | ---: |"]
     for mesh in meshes:
         own = runs[("test1", mesh, dts[-1], "activeset")]["history"]
-        errs = [np.abs(sampled(runs[("test1", mesh, dt, "activeset")]["history"]) - sampled(own)).max() for dt in dts[:-1]]
-        orders.append(f"| dt, {mesh} mesh (dt = {', '.join(map(str, dts[:-1]))}) | "
-                      f"{', '.join(f'{e:.2e}' for e in errs)} | {order(dts[:-1], errs):.2f} |")
+        coarser = [dt for dt in dts[:-1] if ("test1", mesh, dt, "activeset") in runs]
+        errs = [np.abs(sampled(runs[("test1", mesh, dt, "activeset")]["history"]) - sampled(own)).max() for dt in coarser]
+        orders.append(f"| dt, {mesh} mesh (dt = {', '.join(map(str, coarser))}) | "
+                      f"{', '.join(f'{e:.2e}' for e in errs)} | {order(coarser, errs):.2f} |")
     hs = [1 / np.sqrt(meshes[m][1]) for m in list(meshes)[:-1]]
-    errs = [np.abs(sampled(runs[("test1", m, dts[-1], "activeset")]["history"])
-                   - sampled(runs[("test1", finest_mesh, dts[-1], "activeset")]["history"])).max() for m in list(meshes)[:-1]]
-    orders.append(f"| h, dt = {dts[-1]} ({', '.join(list(meshes)[:-1])} against {finest_mesh}) | "
-                  f"{', '.join(f'{e:.2e}' for e in errs)} | {order(hs, errs):.2f} |")
+    diffs = [sampled(runs[("test1", m, dts[-1], "activeset")]["history"])
+             - sampled(runs[("test1", finest_mesh, dts[-1], "activeset")]["history"]) for m in list(meshes)[:-1]]
+    for norm, errs in (("max", [np.abs(d).max() for d in diffs]),
+                       ("L2 in time", [np.sqrt(SAMPLE * (d ** 2).sum() / T) for d in diffs])):
+        orders.append(f"| h, dt = {dts[-1]}, {norm} ({', '.join(list(meshes)[:-1])} against {finest_mesh}) | "
+                      f"{', '.join(f'{e:.2e}' for e in errs)} | {order(hs, errs):.2f} |")
     with open(os.path.join(a.out, "orders.md"), "w") as f:
         f.write("\n".join(orders) + "\n")
 
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for mesh in meshes:
-        for solver in solvers:
-            sel = [r for r in rows if r["test"] == "test1" and r["mesh"] == mesh and r["solver"] == solver and r["err_max"] > 0]
-            if sel:
-                ax.loglog([r["wall_s"] for r in sel], [r["err_max"] for r in sel], "o-", label=f"{mesh}, {solver}")
-    ax.set(xlabel="wall seconds (Test 1, T = 40)", ylabel="max error of u2_low against the finest run",
-           title="Work-precision: Test 1")
-    ax.legend(fontsize=7)
+    # colour = mesh, marker and line = solver; max and L2-in-time error side by side
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharex=True)
+    colours = dict(zip(MESHES, ("tab:red", "tab:blue", "tab:green", "black")))
+    styles = {"ipopt 1e-6": ("v", ":"), "ipopt 1e-8": ("s", "--"), "ipopt 1e-10": ("^", "-."), "activeset": ("o", "-")}
+    for ax, key, what in zip(axes, ("err_max", "err_l2"), ("max over t", "L2 in time")):
+        for mesh in meshes:
+            for solver in solvers:
+                sel = [r for r in rows if r["test"] == "test1" and r["mesh"] == mesh and r["solver"] == solver and r[key] > 0]
+                if sel:
+                    marker, line = styles[solver]
+                    ax.loglog([r["wall_s"] for r in sel], [r[key] for r in sel], marker=marker, linestyle=line,
+                              color=colours[mesh], label=f"{mesh} ({meshes[mesh][1]}), {solver}")
+        ax.set(xlabel="wall seconds (Test 1, T = 40)", ylabel=f"error of u2_low ({what}) against the finest run",
+               title=f"Work-precision, Test 1: {what}")
+    axes[0].legend(fontsize=7)
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(a.out, f"work_precision.{ext}"), dpi=150, bbox_inches="tight")
     print("\n".join(md))
