@@ -103,8 +103,8 @@ def main():
     for n, (test, mesh, dt, solver) in enumerate(grid):
         name = f"{test}_{mesh}_dt{dt}_{solver.replace(' ', '')}"
         old = measured.get((test, mesh, dt, solver))
-        if old and os.path.exists(os.path.join(a.out, name, "history.csv")):
-            h = read_run(os.path.join(a.out, name))
+        h = read_run(os.path.join(a.out, name)) if old and os.path.exists(os.path.join(a.out, name, "history.csv")) else None
+        if h is not None and len(h["t"]) - 1 == int(old["steps"]) and abs(h["t"][-1] - T) < 1e-9:   # a finished run
             runs[(test, mesh, dt, solver)] = dict({k: float(old[k]) for k in ("wall_s", "cpu_s", "ms_per_step", "peak_MiB")},
                                                   steps=int(old["steps"]), qp_steps=int(old["qp_steps"]), history=h)
             continue
