@@ -7,32 +7,27 @@ PYTHON ?= /usr/bin/python3
 RESULTS ?= results
 FIGURES ?= $(RESULTS)/figures
 SCENE ?= test1
-OUT ?= $(RESULTS)/$(SCENE)
+# make run writes here by default: a directory no other target owns
+OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
 T1_VALUES := 18 22 26
 
-EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp)
+EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh)
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps meshes run test1 test2 figures check bench accuracy stress scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
 paper: test1 test2 figures
 	@echo "figures: $(FIGURES)/ (fig1..fig7, PNG and PDF)"
 
-# ---- dependencies (Debian packages; see ../shared/notes/freefem-on-debian.md):
-# installed with apt-get as root, otherwise the command is printed and make stops
-deps:
-	@missing=""; \
-	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \
-	[ -f /usr/lib/freefem++/ff-Ipopt.so ] || missing="$$missing libfreefem++"; \
-	[ -f /usr/include/freefem++/idp/getARGV.idp ] || missing="$$missing libfreefem++-dev"; \
-	command -v gmsh >/dev/null || missing="$$missing gmsh"; \
-	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
-	$(PYTHON) -c 'import matplotlib' 2>/dev/null || missing="$$missing python3-matplotlib"; \
-	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest"; \
+# ---- dependencies (Debian packages; see ../shared/notes/freefem-on-debian.md), in
+# three sets: running (deps-run), plotting (deps-plot), testing (deps-test).
+# Installed with apt-get as root; otherwise the command is printed and make stops.
+define install_missing
+	@missing=""; $(1) \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" = 0 ]; then \
 	    echo "installing:$$missing"; \
@@ -41,6 +36,23 @@ deps:
 	    echo "missing:$$missing"; echo "run as root:  apt-get update && apt-get install -y$$missing"; exit 1; \
 	  fi; \
 	fi
+endef
+deps-run:
+	$(call install_missing, \
+	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \
+	[ -f /usr/lib/freefem++/ff-Ipopt.so ] || missing="$$missing libfreefem++"; \
+	[ -f /usr/include/freefem++/idp/getARGV.idp ] || missing="$$missing libfreefem++-dev"; \
+	command -v gmsh >/dev/null || missing="$$missing gmsh"; \
+	command -v flock >/dev/null || missing="$$missing util-linux"; \
+	[ -x $(PYTHON) ] || missing="$$missing python3";)
+deps-plot: deps-run
+	$(call install_missing, \
+	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
+	$(PYTHON) -c 'import matplotlib' 2>/dev/null || missing="$$missing python3-matplotlib";)
+deps-test: deps-plot
+	$(call install_missing, \
+	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
+deps: deps-test
 
 # ---- meshes: the paper's disk (refine 1) and a coarser and a finer one
 meshes: $(MESHES)
@@ -48,41 +60,42 @@ meshes/disk.msh: REFINE = 1
 meshes/disk_coarse.msh: REFINE = 0.5
 meshes/disk_fine.msh: REFINE = 2
 meshes/disk_refine4.msh: REFINE = 4
-meshes/%.msh: meshes/disk.geo | deps
+meshes/%.msh: meshes/disk.geo | deps-run
 	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 || { cat $@.log; exit 1; }
 	@rm -f $@.log
 	@$(PYTHON) postprocess/mesh_counts.py $@
 
 # ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
-run: meshes/disk.msh | deps
+run: meshes/disk.msh | deps-run
 	$(RUN) $(SCENE) $(OUT) $(ARGS)
 
-# ---- the paper's tests (results are rebuilt when the code or scene changes)
-test1: $(RESULTS)/test1/history.csv
-test2: $(RESULTS)/test1/history.csv $(foreach t1,$(T1_VALUES),$(RESULTS)/test2_t1_$(t1)/history.csv)
+# ---- the paper's tests (results are rebuilt when the code or scene changes).
+# summary.txt is written last, so a killed run is never taken as up to date.
+test1: $(RESULTS)/test1/summary.txt
+test2: $(RESULTS)/test1/summary.txt $(foreach t1,$(T1_VALUES),$(RESULTS)/test2_t1_$(t1)/summary.txt)
 
-$(RESULTS)/test1/history.csv: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.msh | deps
+$(RESULTS)/test1/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
 	FORCE=1 $(RUN) test1 $(@D)
-$(RESULTS)/test2_t1_%/history.csv: edp/scenes/test2.idp $(EDP_SOURCES) meshes/disk.msh | deps
+$(RESULTS)/test2_t1_%/summary.txt: edp/scenes/test2.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
 	FORCE=1 $(RUN) test2 $(@D) -t1 $*
 
-figures: test1 test2
+figures: test1 test2 | deps-plot
 	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)
 
 # ---- tests
-check: meshes | deps
+check: meshes | deps-test
 	$(PYTHON) -m pytest -q tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
-bench: meshes | deps
+bench: meshes | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
-accuracy: meshes meshes/disk_refine4.msh | deps
+accuracy: meshes meshes/disk_refine4.msh | deps-plot
 	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
 
 # ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md
-stress: meshes meshes/disk_refine4.msh | deps
+stress: meshes meshes/disk_refine4.msh | deps-plot
 	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress
 
 # ---- every scene with the first line of its comment

@@ -1,89 +1,165 @@
 #!/usr/bin/env bash
-# run.sh SCENE OUT [-key value ...] -- run one simulation of edp/contact.edp.
-# Copies edp/scenes/SCENE.idp to OUT/scene.idp (a record of what ran), writes
-# OUT/ipopt.opt, and runs FreeFEM in OUT with the plugin and include paths
-# Debian's FreeFEM needs. Refuses to overwrite an earlier run unless FORCE=1.
-# run.sh SCENE OUT -restart DIR [-key value ...] continues the killed run in
-# DIR from DIR/checkpoint.txt with DIR's parameters (options given here win),
-# writing into OUT (which may be DIR itself).
-set -euo pipefail
+# run.sh SCENE OUT [-key value ...] -- one simulation of edp/contact.edp into OUT.
+#   SCENE is a name in edp/scenes/ (make scenes) or the path of a scene file (.idp).
+# run.sh SCENE OUT -restart DIR [-key value ...] continues the run in DIR from its
+#   last checkpoint, with DIR's parameters; only -T and output options may change.
+#
+# Nothing of an earlier run in OUT changes until the new run is under way:
+#   - one run per OUT at a time: a lock on OUT/.lock (flock), released when the
+#     run ends, however it ends; it names its holder;
+#   - an earlier run in OUT is replaced only with FORCE=1 (or by its own restart);
+#   - FreeFEM runs in OUT/.staging and checks everything there (options, scene,
+#     mesh, initial state, checkpoint); then edp/lib/commit.sh moves its first
+#     files into OUT over the earlier run's, and the run goes on in OUT.
+# Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug),
+# 2 usage, 3 refused before the first step, 4 a step failed, 5 factorisation,
+# 7 a write failed.
+set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
+err() { echo "error: $1" >&2; exit "${2:-3}"; }
+
 if [ $# -lt 2 ]; then
   echo "usage: $0 SCENE OUT [-key value ...]   (scenes: $(cd "$here/scenes" && ls *.idp | sed 's/\.idp$//' | tr '\n' ' '))" >&2
   exit 2
 fi
-scene=$1 out=$2
+scene=$1 out=$2 out_arg=$2
 shift 2
-scene_file="$here/scenes/$scene.idp"
-[ -f "$scene_file" ] || { echo "error: no scene '$scene' (edp/scenes/$scene.idp); see make scenes" >&2; exit 3; }
+case "$scene" in
+  */* | *.idp)
+    [ -f "$scene" ] || err "scene file $scene not found"
+    scene_file=$(cd "$(dirname "$scene")" && pwd)/$(basename "$scene") scene_name=$(basename "$scene" .idp) ;;
+  *)
+    scene_file=$here/scenes/$scene.idp scene_name=$scene
+    [ -f "$scene_file" ] || err "no scene '$scene' (edp/scenes/$scene.idp); see make scenes" ;;
+esac
+[[ "$scene_name" =~ ^[A-Za-z0-9_.-]+$ ]] || err "the scene name '$scene_name' must be letters, digits, '_', '.' or '-'"
+[ -n "$out" ] || err "OUT is empty"
 
-# Relative -mesh paths are relative to the repository root, as in the Makefile.
 args=()
 restart_dir=""
 while [ $# -gt 0 ]; do
-  if [ "$1" = "-restart" ] && [ $# -ge 2 ]; then
-    restart_dir=$2; shift 2
-  elif [ "$1" = "-mesh" ] && [ $# -ge 2 ]; then
-    m=$2
-    case "$m" in /*) ;; *) m="$root/$m" ;; esac
-    [ -r "$m" ] || { echo "error: -mesh $2: file missing or unreadable" >&2; exit 3; }
-    [ "$(sed -n '1p;2s/ .*//p' "$m" | tr -d '\r' | tr '\n' ' ')" = '$MeshFormat 2.2 ' ] ||
-      { echo "error: -mesh $2: not a gmsh MSH 2.2 file (write it with gmsh -2 -format msh22)" >&2; exit 3; }
-    args+=(-mesh "$m"); shift 2
+  if [ "$1" = "-restart" ]; then
+    [ $# -ge 2 ] && [ -n "$2" ] || err "-restart needs the directory of the run to continue"
+    [ -z "$restart_dir" ] || err "-restart is given twice"
+    restart_dir=$2
+    shift 2
   else
-    args+=("$1"); shift
+    args+=("$1")
+    shift
   fi
 done
 if [ -n "$restart_dir" ]; then
-  for f in checkpoint.txt parameters.txt history.csv; do
-    [ -r "$restart_dir/$f" ] || { echo "error: -restart $restart_dir: no $f there (checkpoints are written every -checkpoint_every steps)" >&2; exit 3; }
+  [ -d "$restart_dir" ] || err "-restart $restart_dir: no such directory"
+  for f in checkpoint.txt parameters.txt history.csv scene.idp; do
+    [ -r "$restart_dir/$f" ] || err "-restart $restart_dir: no $f there (checkpoints are written every -checkpoint_every steps)"
   done
-  # the killed run's parameters, after the ones given here (the first -key wins)
-  while read -r key value; do args+=("$key" "$value"); done < "$restart_dir/parameters.txt"
-fi
-# the default mesh
-if ! printf '%s\n' "${args[@]:-}" | grep -qx -- -mesh; then
-  [ -r "$root/meshes/disk.msh" ] || { echo "error: meshes/disk.msh is missing; run make meshes" >&2; exit 3; }
-  args+=(-mesh "$root/meshes/disk.msh")
+  restart_dir=$(cd "$restart_dir" && pwd -P)
+  scene_file=$restart_dir/scene.idp     # the scene that ran, even if edp/scenes has changed since
 fi
 
-if [ -z "$restart_dir" ] && [ -e "$out/history.csv" ] && [ "${FORCE:-0}" != 1 ]; then
-  echo "error: $out already holds a run (history.csv); use FORCE=1 to overwrite it" >&2
-  exit 3
+# ---- OUT: created if need be (and removed again if the run never starts), locked, staged
+created=0
+if [ ! -d "$out" ]; then
+  mkdir -p "$out" 2>/dev/null || err "output directory $out cannot be created"
+  created=1
 fi
-mkdir -p "$out" 2>/dev/null && [ -w "$out" ] || { echo "error: output directory $out cannot be written" >&2; exit 3; }
-if [ -n "$restart_dir" ]; then
-  if [ "$(cd "$restart_dir" && pwd)" != "$(cd "$out" && pwd)" ]; then
-    cp "$restart_dir/checkpoint.txt" "$restart_dir/history.csv" "$out/"
+[ -w "$out" ] || err "output directory $out cannot be written"
+out=$(cd "$out" && pwd -P)
+stage=$out/.staging
+exec 9>>"$out/.lock" || err "output directory $out cannot be written"
+if ! flock -n 9; then
+  err "$out is in use by another run ($(head -c 200 "$out/.lock" | tr -d '\n')); wait for it to end or stop it"
+fi
+if [ -s "$out/.lock" ]; then
+  echo "note: $out was left by a run that was killed ($(head -c 200 "$out/.lock" | tr -d '\n')); taking it over"
+fi
+errfile=$(mktemp)
+cleanup() {
+  rm -f "$errfile"
+  if [ -e "$stage/.committed" ] || [ "$created" = 0 ]; then
+    rm -rf "$stage"
+    : > "$out/.lock"
+  else
+    rm -rf "$out"                    # created here and never started: leave no trace
   fi
-  # keep the header and the complete rows up to the checkpoint's step
-  step=$(awk 'NR == 1 { print $1 }' "$out/checkpoint.txt")
-  awk -F, -v s="$step" 'NR == 1 { n = NF; print; next } NF == n && $1 <= s' "$out/history.csv" > "$out/history.csv.tmp"
-  mv -f "$out/history.csv.tmp" "$out/history.csv"
-  args+=(-restart checkpoint.txt)
+}
+trap cleanup EXIT
+printf 'pid %s, started %s: run.sh %s %s' "$$" "$(date '+%Y-%m-%d %H:%M:%S')" "$scene" "$out_arg" > "$out/.lock"
+
+same_dir=0
+[ "$restart_dir" = "$out" ] && same_dir=1
+if [ -e "$out/history.csv" ] && [ "${FORCE:-0}" != 1 ] && [ $same_dir = 0 ]; then
+  err "$out already holds a run (history.csv); use FORCE=1 to replace it, or another OUT"
 fi
-cp "$scene_file" "$out/scene.idp"
+rm -rf "$stage"
+mkdir "$stage" && cp "$scene_file" "$stage/scene.idp" || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
-cat > "$out/ipopt.opt" <<'OPT'
+cat > "$stage/ipopt.opt" <<'OPT' || err "cannot write into $out (disk full?)" 7
 # no banner
 sb yes
 # keep C x <= g exactly (the default 1e-8 relaxation lets the body sink ~3e-8 into the foundation)
 bound_relax_factor 0
 OPT
 
+# ---- FreeFEM, in the staging directory (commit.sh moves it on into OUT)
 export FF_LOADPATH=/usr/lib/freefem++
-export FF_INCLUDEPATH="$(cd "$out" && pwd);/usr/include/freefem++/idp"
-cd "$out"
-# FreeFEM writes everything to stdout: keep its "error:" lines (to stderr) and
-# our own output, drop IPOPT's blank lines and FreeFEM's exit trace; on a
-# terminal the progress line is rewritten in place.
-tty=0; [ -t 1 ] && tty=1
-FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}" | awk -v tty=$tty '
-  /^error: / { print > "/dev/stderr"; fflush("/dev/stderr"); next }
-  /^$/ || /^  current line = / || /^ call .* at  line / || /^exit\(/ || /^ err code / { next }
-  /^progress / { sub(/^progress /, "");
-                 if (tty) { printf "\r%s   ", $0; pending = 1 } else if (++np % 10 == 0) print;
+export FF_INCLUDEPATH="$stage;/usr/include/freefem++/idp"
+export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
+# FreeFEM writes everything to stdout: "error:" and "warning:" lines go to stderr,
+# FreeFEM's traces are dropped (a compile error in the scene becomes one error
+# line naming the scene and the line), and on a terminal the progress line is
+# rewritten in place (in a log: every 10th, or one a minute at least).
+tty=0
+[ -t 1 ] && tty=1
+# CONTACT_DEBUG=1 also shows FreeFEM's raw output on stderr (for developers).
+raw=/dev/null
+[ -n "${CONTACT_DEBUG:-}" ] && raw=/dev/stderr
+# (No exec: the subshell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
+(cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}") 2>&1 | tee "$raw" | awk -v tty=$tty \
+    -v scene="$scene_file" -v errfile="$errfile" '
+  /^error: |^warning: / { if (pending) { printf "\n"; pending = 0 } print > "/dev/stderr"; fflush("/dev/stderr"); next }
+  /Error line number [0-9]+, in file / {
+    line = $0; sub(/.*Error line number /, "", line); sub(/,.*/, "", line)
+    token = $0; sub(/.*before  *token */, "", token)
+    file = $0; sub(/.*, in file /, "", file); sub(/, before.*/, "", file)
+    if (file ~ /scene\.idp$/) {
+      printf "error: scene %s, line %s: %s (before \"%s\")\n", scene, line, (reason == "" ? "syntax error" : reason), token > "/dev/stderr"
+      compile = 3
+    } else detail = "compile error in " file ", line " line ": " (reason == "" ? "syntax error" : reason)
+    next
+  }
+  /^ *The Identifier .* does not exist|^ *No operator/ { reason = $0; gsub(/^ +| +$/, "", reason); next }
+  /^ Error opening file / { opened = $0; sub(/^ Error opening file /, "", opened); next }
+  /Exec error|Assertion fail|^ *Error|Fatal error|Segmentation fault|Aborted|Killed/ { if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) } next }
+  /^$/ || /^  current line = / || /^ call .* at  line / || /^exit\(/ || /^ err code / || /^ *code = / ||
+  /^Compile error/ || /^error Compile error/ || /^\tline number :/ || /^ *-- number :/ || /^syntax error$/ || /^\tline :/ { next }
+  /^progress / { sub(/^progress /, "")
+                 if (tty) { printf "\r%s   ", $0; pending = 1 }
+                 else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)
+                        if (++np % 10 == 0 || el + 0 >= shown + 60) { print; shown = el + 0 } }
                  fflush(); next }
   { if (pending) { printf "\n"; pending = 0 } print; fflush() }
-  END { if (pending) printf "\n" }'
+  END { if (pending) printf "\n"
+        if (opened != "") { print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
+        if (detail != "") print detail > errfile
+        exit compile }'
+status=("${PIPESTATUS[@]}")
+rc=${status[0]} filter=${status[2]}
+case "$rc" in
+  0 | 3 | 4 | 5 | 7) exit_status=$rc ;;
+  *) if [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
+       exit_status=$filter
+     else
+       detail=$(head -c 300 "$errfile")
+       echo "error: FreeFEM stopped unexpectedly (exit $rc${detail:+: $detail}); this is a bug in the suite, please report it" >&2
+       exit_status=1
+     fi ;;
+esac
+# A write that failed mid-row leaves part of a row: history.csv keeps the complete ones.
+if [ "$exit_status" = 7 ] && [ -e "$stage/.committed" ] && [ -s "$out/history.csv" ] &&
+   [ -n "$(tail -c 1 "$out/history.csv")" ]; then
+  partial=$(tail -n 1 "$out/history.csv" | wc -c)
+  truncate -s $(($(stat -c %s "$out/history.csv") - partial)) "$out/history.csv"
+fi
+exit "$exit_status"

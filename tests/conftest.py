@@ -1,6 +1,7 @@
 """Shared runs for the tests: every simulation the tests need is started once
 per session, two at a time (the machines have 2 cores), in a temporary directory."""
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -41,13 +42,44 @@ RUNS = {
 RUNS.update({f"stress: {name}": case_args(name, horizon) for name, horizon in FAST.items()})
 
 
-def run_scene(scene, out, args, check=True):
-    """edp/run.sh SCENE OUT ARGS; returns the CompletedProcess."""
-    p = subprocess.run([RUN, scene, out] + list(args), capture_output=True, text=True,
-                       env=dict(os.environ, FORCE="1"))
+def run_scene(scene, out, args, check=True, env=None, **kwargs):
+    """edp/run.sh SCENE OUT ARGS (with FORCE=1); returns the CompletedProcess."""
+    p = subprocess.run([RUN, scene, str(out)] + list(args), capture_output=True, text=True,
+                       env=dict(os.environ, FORCE="1", **(env or {})), **kwargs)
     if check and p.returncode != 0:
         raise AssertionError(f"{scene} {' '.join(args)} failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
     return p
+
+
+def error_lines(p):
+    """The "error:" lines a run wrote on stderr."""
+    return [line for line in p.stderr.splitlines() if line.startswith("error:")]
+
+
+def files_of(directory):
+    """Every file of a run directory (not the hidden lock and staging), with its bytes."""
+    return {f: open(os.path.join(directory, f), "rb").read()
+            for f in sorted(os.listdir(directory)) if not f.startswith(".")}
+
+
+@pytest.fixture(scope="session")
+def earlier_run(tmp_path_factory):
+    """A finished run with a file of every kind (history, parameters, mesh, foundation,
+    snapshots as CSV and VTU, checkpoint, summary): each failure test runs into a copy
+    of it with FORCE=1 and checks that every file is byte-identical afterwards."""
+    out = tmp_path_factory.mktemp("earlier") / "run"
+    run_scene("test1", out, ["-T", "0.5", "-snapshots", "0,0.25", "-checkpoint_every", "5", "-progress", "0"])
+    return str(out)
+
+
+def refused_into_copy(tmp_path, earlier, scene, args, env=None, **kwargs):
+    """Run SCENE ARGS with FORCE=1 into a copy of the earlier run; returns the process
+    and whether any file of the earlier run changed."""
+    out = tmp_path / "copy"
+    shutil.copytree(earlier, out)
+    before = files_of(out)
+    p = run_scene(scene, out, args, check=False, env=env, **kwargs)
+    return p, files_of(out) != before
 
 
 @pytest.fixture(scope="session")

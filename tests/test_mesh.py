@@ -1,12 +1,19 @@
-"""The disk mesh of meshes/disk.geo against the paper (Section 4.1)."""
+"""The disk mesh of meshes/disk.geo against the paper (Section 4.1), and every mesh
+defect refused with exit 3 and one line naming the file and the defect, before
+gmshload reads it (edp/lib/check_mesh.awk), with an earlier run byte-identical."""
 import os
+import subprocess
 
-from conftest import ROOT
+import pytest
+
+from conftest import ROOT, refused_into_copy
 from mesh_counts import msh22_counts
+
+PAPER_MESH = os.path.join(ROOT, "meshes", "disk.msh")
 
 
 def test_paper_mesh_counts():
-    v, t, c, n = msh22_counts(os.path.join(ROOT, "meshes", "disk.msh"))
+    v, t, c, n = msh22_counts(PAPER_MESH)
     print(f"meshes/disk.msh: {v} vertices, {t} triangles (paper: 989, 1864)")
     assert abs(v - 989) <= 0.01 * 989 and abs(t - 1864) <= 0.01 * 1864
     assert (c, n) == (48, 64)
@@ -17,3 +24,87 @@ def test_refined_meshes_keep_the_geometry():
     fine = msh22_counts(os.path.join(ROOT, "meshes", "disk_fine.msh"))
     assert coarse[2:] == (24, 32) and fine[2:] == (96, 128)
     assert coarse[0] < 989 < fine[0]
+
+
+def paper_lines():
+    return open(PAPER_MESH).read().split("\n")
+
+
+def first_triangle(lines):
+    k = lines.index("$Elements") + 2
+    while lines[k].split()[1] != "2":
+        k += 1
+    return k
+
+
+def truncated_in(section):
+    lines = paper_lines()
+    k = lines.index(section) + 100
+    return "\n".join(lines[:k]) + "\n"
+
+
+def flipped_triangle():
+    lines = paper_lines()
+    k = first_triangle(lines)
+    f = lines[k].split()
+    f[-1], f[-2] = f[-2], f[-1]
+    lines[k] = " ".join(f)
+    return "\n".join(lines)
+
+
+def degenerate_triangle():
+    lines = paper_lines()
+    k = first_triangle(lines)
+    f = lines[k].split()
+    f[-1] = f[-2]
+    lines[k] = " ".join(f)
+    return "\n".join(lines)
+
+
+def binary():
+    return "$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n"
+
+
+def quadrangles():
+    lines = paper_lines()
+    k = first_triangle(lines)
+    f = lines[k].split()
+    lines[k] = " ".join([f[0], "3", "2", "1", "1", f[-3], f[-2], f[-1], f[-1]])
+    return "\n".join(lines)
+
+
+DEFECTS = {
+    "truncated in $Nodes": (lambda: truncated_in("$Nodes"), "truncated in $Nodes: 98 of 989 nodes, no $EndNodes"),
+    "truncated in $Elements": (lambda: truncated_in("$Elements"), "truncated in $Elements: 98 of 1976 elements, no $EndElements"),
+    "binary": (binary, "binary MSH 2.2; FreeFEM's gmshload reads ASCII only"),
+    "inverted triangle": (flipped_triangle, "is inverted (clockwise"),
+    "degenerate triangle": (degenerate_triangle, "is degenerate (area 0)"),
+    "quadrangle": (quadrangles, "has type 3; only points (15), 2-node lines (1) and 3-node triangles (2) are supported"),
+    "not a mesh": (lambda: "not a mesh\n", "not a gmsh MSH file (its first line is not $MeshFormat)"),
+    "MSH 4.1": (lambda: "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n", "MSH version 4.1, not 2.2"),
+    "empty": (lambda: "", "the file is empty"),
+}
+
+
+@pytest.mark.parametrize("defect", list(DEFECTS))
+def test_mesh_defect_is_one_clear_error(tmp_path, earlier_run, defect):
+    make, message = DEFECTS[defect]
+    bad = tmp_path / "bad.msh"
+    bad.write_text(make())
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(bad), "-T", "1"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert errors[0].startswith(f"error: -mesh {bad}: ") and message in errors[0], errors[0]
+    assert not changed, f"{defect}: the earlier run's files changed"
+
+
+def test_mesh_without_contact_label(tmp_path, earlier_run):
+    geo = tmp_path / "square.geo"
+    geo.write_text('Point(1)={0,0,0,1};Point(2)={1,0,0,1};Point(3)={1,1,0,1};Point(4)={0,1,0,1};'
+                   'Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};'
+                   'Plane Surface(1)={1};Physical Curve(2)={1,2,3,4};Physical Surface(1)={1};\n')
+    msh = tmp_path / "square.msh"
+    subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh)])
+    assert p.returncode == 3 and p.stderr.strip() == f"error: -mesh {msh} has no boundary label 1 (Gamma_C)"
+    assert not changed

@@ -1,12 +1,17 @@
-"""Bad input: one clear line naming the parameter, non-zero exit, nothing written."""
+"""Bad input: exit 3 and one clear line naming the parameter, and an earlier run in
+OUT byte-identical afterwards, even with FORCE=1 (docs/errors.md)."""
 import os
+import shutil
 import subprocess
 
+import numpy as np
 import pytest
 
-from conftest import ROOT, run_scene
+from conftest import ROOT, error_lines, files_of, refused_into_copy, run_scene
+from history import read_run
 
 BAD = [
+    # ranges
     (["-dt", "0"], "-dt must be > 0"),
     (["-dt", "-0.1"], "-dt must be > 0"),
     (["-T", "0"], "-T must be > 0"),
@@ -14,74 +19,186 @@ BAD = [
     (["-mu", "0"], "-mu must be > 0"),
     (["-lambda", "-40"], "-lambda must be > -mu"),
     (["-foundation", "cosine", "-t0", "9", "-t1", "9"], "-t1 must be > t0"),
-    (["-dtt", "0.1"], "unknown option -dtt"),
-    (["-dt", "0.1x"], "-dt must be a number, got '0.1x'"),
-    (["-skip_free", "1.5"], "-skip_free must be an integer"),
-    (["-snapshots", "200"], "-snapshots must be in [0, T]"),
+    (["-angle", "75"], "-angle must be in (-60, 60)"),
+    (["-checkpoint_every", "0"], "-checkpoint_every must be an integer in [1, 1000000000]"),
+    (["-skip_free", "1.5"], "-skip_free must be an integer in [0, 1]"),
     (["-solver", "magic"], "-solver must be ipopt or activeset"),
     (["-factorization", "qr"], "-factorization must be cholesky or lu"),
     (["-material", "svk"], "-material must be linear"),
     (["-probes", "0,40,17"], "-probes must be x,y pairs"),
-    (["-angle", "75"], "-angle must be in (-60, 60)"),
-    (["-checkpoint_every", "0"], "-checkpoint_every must be >= 1"),
     (["-foundation", "user"], "-foundation user needs the scene to define"),
     (["-mesh", "meshes/no-such-file.msh"], "-mesh meshes/no-such-file.msh: file missing or unreadable"),
+    # the reader: unknown, malformed, missing, duplicated
+    (["-dtt", "0.1"], "unknown option -dtt"),
+    (["-dt", "0.1x"], "-dt must be a number, got '0.1x'"),
+    (["-dt"], "-dt needs a value"),
+    (["-dt", "-T", "2"], "-dt needs a value (got the key -T after it)"),
+    (["-dt", "0.1", "-dt", "0.2"], "-dt is given twice (0.1 and 0.2)"),
+    # every number finite and sensible
+    (["-dt", "nan"], "-dt must be a number, got 'nan'"),
+    (["-dt", "-inf"], "-dt must be a number, got '-inf'"),
+    (["-dt", "1e400"], "-dt must be a finite number of magnitude at most 1e+30, got 1e400"),
+    (["-T", "1e400"], "-T must be a finite number of magnitude at most 1e+30, got 1e400"),
+    (["-lambda", "1e400"], "-lambda must be a finite number"),
+    (["-mu", "1e300"], "-mu must be a finite number of magnitude at most 1e+30"),
+    (["-dt", "1e-300"], "-T 2 with -dt 1e-300 is 2e+300 steps, more than -max_steps 10000000"),
+    (["-dt", "1e-150"], "steps, more than -max_steps 10000000"),
+    (["-T", "1e12"], "-T 1e+12 with -dt 0.05 is 2e+13 steps, more than -max_steps 10000000"),
+    (["-ipopt_max_iter", "4294967297"], "-ipopt_max_iter must be an integer in [1, 100000000], got '4294967297'"),
+    (["-checkpoint_every", "99999999999999999999"], "-checkpoint_every must be an integer in [1, 1000000000]"),
+    (["-probes", "1e400,0"], "-probes must be a finite number"),
+    # the time grid: T a whole number of steps, snapshot times on it
+    (["-dt", "0.07", "-T", "1"], "-T 1 is not a whole number of steps of -dt 0.07 (14.2857 steps): use -T 0.98 or -T 1.05"),
+    (["-T", "0.01"], "-T 0.01 is not a whole number of steps of -dt 0.05 (0.2 steps): use -T 0.05"),
+    (["-snapshots", "1.23,1.24"], "-snapshots 1.23 is not a step time of -dt 0.05: the nearest are 1.2 and 1.25"),
+    (["-snapshots", "1.25,1.250"], "-snapshots lists t = 1.25 twice"),
+    (["-snapshots", "200"], "-snapshots must be in [0, T]"),
+    # the body must not start inside the foundation
+    (["-level", "100"], "the initial state penetrates the foundation by 96 at the vertex (0, 0)"),
+    (["-u0y", "-5"], "the initial state penetrates the foundation by 5 at the vertex (0, 0)"),
+    (["-angle", "59"], "the initial state penetrates the foundation by 14.8"),
 ]
 
 
 @pytest.mark.parametrize("args,message", BAD, ids=[" ".join(a) for a, _ in BAD])
-def test_bad_input_is_one_clear_error(tmp_path, args, message):
-    out = tmp_path / "out"
+def test_bad_input_is_one_clear_error_and_changes_nothing(tmp_path, earlier_run, args, message):
     short = [] if "-T" in args else ["-T", "2"]      # should a check be missing, the run stays short
-    p = run_scene("test1", str(out), args + short, check=False)
-    assert p.returncode != 0
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", args + short + ["-progress", "0"])
+    assert p.returncode == 3, p.stderr
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert len(errors) == 1 and message in errors[0], p.stderr
-    assert not (out / "history.csv").exists()
+    assert not changed, f"{args} changed the earlier run's files"
 
 
-def test_mesh_without_contact_label(tmp_path):
-    geo = tmp_path / "square.geo"
-    geo.write_text('Point(1)={0,0,0,1};Point(2)={1,0,0,1};Point(3)={1,1,0,1};Point(4)={0,1,0,1};'
-                   'Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};'
-                   'Plane Surface(1)={1};Physical Curve(2)={1,2,3,4};Physical Surface(1)={1};\n')
-    msh = tmp_path / "square.msh"
-    subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
-    p = run_scene("test1", str(tmp_path / "out"), ["-mesh", str(msh)], check=False)
-    assert p.returncode != 0 and "has no boundary label 1" in p.stderr, p.stderr
+def test_refused_run_into_a_new_directory_leaves_no_trace(tmp_path):
+    out = tmp_path / "new" / "out"
+    p = run_scene("test1", out, ["-dt", "nan"], check=False)
+    assert p.returncode == 3 and not (tmp_path / "new" / "out").exists()
 
 
-def test_mesh_that_is_not_msh22(tmp_path):
-    bad = tmp_path / "bad.msh"
-    bad.write_text("not a mesh\n")
-    p = run_scene("test1", str(tmp_path / "out"), ["-mesh", str(bad)], check=False)
-    assert p.returncode == 3 and "not a gmsh MSH 2.2 file" in p.stderr, p.stderr
+def test_unused_option_is_a_warning_naming_it(tmp_path):
+    p = run_scene("test1", tmp_path / "out", ["-T", "0.1", "-t1", "20", "-wave_a", "1", "-progress", "0"])
+    warnings = [line for line in p.stderr.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 2 and "-t1 has no effect: it applies to -foundation cosine" in warnings[0], p.stderr
+    assert "-wave_a has no effect" in warnings[1] and not error_lines(p)
+
+
+def test_paper_snapshots_take_the_nearest_steps_and_record_them(tmp_path):
+    """At dt = 0.1 the paper's 15.25 and 19.15 are not step times: the run says which steps
+    it takes, and names the files, parameters.txt and summary.txt with the real times."""
+    out = tmp_path / "out"
+    p = run_scene("test1", out, ["-dt", "0.1", "-T", "16", "-vtk", "0", "-progress", "0", "-solver", "activeset"])
+    assert "note: -snapshots paper at -dt 0.1 takes the nearest steps: 11.4,13.3,15.2" in p.stdout
+    assert sorted(f for f in os.listdir(out) if f.startswith("snapshot_")) == \
+        ["snapshot_t11.4.csv", "snapshot_t13.3.csv", "snapshot_t15.2.csv"]
+    assert "-snapshots 11.4,13.3,15.2\n" in (out / "parameters.txt").read_text()
+    assert "snapshot_times 11.4,13.3,15.2\n" in (out / "summary.txt").read_text()
+
+
+def test_the_run_ends_at_T(tmp_path):
+    out = tmp_path / "out"
+    run_scene("test1", out, ["-dt", "0.04", "-T", "1", "-progress", "0", "-snapshots", "none"])
+    h = read_run(str(out))
+    assert len(h["t"]) == 26 and abs(h["t"][-1] - 1) < 1e-12
+
+
+# ---- scenes
+
+def write_scene(tmp_path, name, text):
+    path = tmp_path / f"{name}.idp"
+    path.write_text(text)
+    return str(path)
+
+
+@pytest.mark.parametrize("text,message", [
+    ('foundation = "flat";\nT = 2\nlevel = 0;\n', "line 3: syntax error (before \"level\")"),
+    ('foundation = "flat";\nlevl = 0;\n', "line 2: The Identifier levl does not exist"),
+], ids=["syntax", "identifier"])
+def test_scene_error_names_the_scene_file_and_line(tmp_path, earlier_run, text, message):
+    scene = write_scene(tmp_path, "broken", text)
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert f"error: scene {scene}, {message}" in errors[0] and not changed
+
+
+def test_scene_mesh_is_used(tmp_path):
+    """A scene that sets meshFile (relative to the repository) runs on that mesh."""
+    scene = write_scene(tmp_path, "coarse", 'T = 0.1;\nsnapshots = "none";\nmeshFile = "meshes/disk_coarse.msh";\n')
+    out = tmp_path / "out"
+    p = run_scene(scene, out, ["-progress", "0"])
+    assert "277 vertices" in p.stdout
+    assert f"-mesh {ROOT}/meshes/disk_coarse.msh\n" in (out / "parameters.txt").read_text()
+
+
+def test_incline_lift_follows_the_command_line_angle(tmp_path):
+    """The incline scene derives u0y from the final -angle: at 30 degrees the disk starts
+    on the plane (no penetration) and the first step is no impulse (the modified energy
+    does not rise, Prop. 2 with w = u^n)."""
+    out = tmp_path / "out"
+    run_scene("incline", out, ["-angle", "30", "-T", "1", "-progress", "0", "-solver", "activeset"])
+    assert "-u0y 3.094010767585" in (out / "parameters.txt").read_text()     # 20 / cos 30 - 20
+    h = read_run(str(out))
+    assert h["max_penetration"].max() < 1e-12
+    assert np.diff(h["modified_energy"]).max() <= 1e-9 * abs(h["modified_energy"][0])
+
+
+def test_nan_foundation_at_the_start_is_refused(tmp_path, earlier_run):
+    scene = write_scene(tmp_path, "nan0", 'foundation = "user";\nT = 1;\nsnapshots = "none";\n'
+                        "macro userFoundationPsi(X1, t) sqrt(-1.) // EOM\nmacro userFoundationDpsi(X1, t) 0 // EOM\n")
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    assert p.returncode == 3 and error_lines(p) == ["error: userFoundationPsi is not finite at X1 = -30, t = 0: it gives -nan"]
+    assert not changed
+
+
+def test_nan_foundation_during_the_run_stops_it(tmp_path):
+    """A user psi that turns NaN at t in (0.3, 0.4), between the times the start-up check
+    samples: the step stops with exit 4 naming t and X1, not a misleading solver status."""
+    scene = write_scene(tmp_path, "nanlater", 'foundation = "user";\nT = 1;\nsnapshots = "none";\nfoundationMoving = 1;\n'
+                        "macro userFoundationPsi(X1, t) ((t > 0.3 && t < 0.4) ? sqrt(-1.) : -2.) // EOM\n"
+                        "macro userFoundationDpsi(X1, t) 0 // EOM\n")
+    out = tmp_path / "out"
+    p = run_scene(scene, out, ["-progress", "0"], check=False)
+    assert p.returncode == 4 and len(error_lines(p)) == 1
+    assert "the foundation is not finite at t = 0.3: at X1 = -17.3205 psi = -nan" in error_lines(p)[0]
+    h = read_run(str(out))
+    assert (h["step"] == np.arange(6)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
+
+
+def test_non_finite_step_stops_the_run(tmp_path):
+    """The last guard: a step whose solution is not finite (forced here at step 7 by the
+    test hook CONTACT_TEST_NAN_STEP) stops with exit 4; history.csv keeps steps 0-6, all finite."""
+    out = tmp_path / "out"
+    p = run_scene("test1", out, ["-T", "1", "-progress", "0"], check=False, env={"CONTACT_TEST_NAN_STEP": "7"})
+    assert p.returncode == 4
+    assert error_lines(p) == ["error: step 7 (t = 0.35) gave a non-finite solution; history.csv keeps every step before it"]
+    h = read_run(str(out))
+    assert (h["step"] == np.arange(7)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
+    assert not (out / "summary.txt").exists()
+
+
+# ---- make run
+
+def test_make_run_writes_its_own_directory_and_needs_no_test_packages():
+    p = subprocess.run(["make", "-n", "run", "SCENE=test1"], cwd=ROOT, capture_output=True, text=True)
+    assert p.returncode == 0 and "edp/run.sh test1 results/runs/test1" in p.stdout
+    assert "pytest" not in p.stdout and "matplotlib" not in p.stdout
+    p = subprocess.run(["make", "-n", "-B", "test1"], cwd=ROOT, capture_output=True, text=True)
+    assert "results/test1" in p.stdout
 
 
 def test_unwritable_output_directory(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
-    p = run_scene("test1", str(blocker / "out"), [], check=False)
-    assert p.returncode != 0 and "cannot be written" in p.stderr, p.stderr
+    p = run_scene("test1", blocker / "out", [], check=False)
+    assert p.returncode == 3 and error_lines(p) == [f"error: output directory {blocker}/out cannot be created"], p.stderr
 
 
-def test_existing_results_are_not_overwritten(tmp_path):
+def test_existing_results_are_not_overwritten_without_force(tmp_path, earlier_run):
     out = tmp_path / "out"
-    out.mkdir()
-    (out / "history.csv").write_text("precious\n")
+    shutil.copytree(earlier_run, out)
+    before = files_of(out)
     p = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), "test1", str(out)], capture_output=True, text=True,
                        env={k: v for k, v in os.environ.items() if k != "FORCE"})
-    assert p.returncode != 0 and "FORCE=1" in p.stderr
-    assert (out / "history.csv").read_text() == "precious\n"
-
-
-def test_bad_input_leaves_an_earlier_run_untouched(tmp_path):
-    out = tmp_path / "out"
-    run_scene("test1", str(out), ["-T", "0.2", "-progress", "0"])
-    before = {f: (out / f).read_bytes() for f in ("history.csv", "parameters.txt", "mesh.msh")}
-    bad = tmp_path / "bad.msh"
-    bad.write_text("not a mesh\n")
-    for args in (["-dt", "-1"], ["-mesh", str(bad)], ["-foundation", "user"]):
-        p = run_scene("test1", str(out), args, check=False)      # FORCE=1: it may overwrite, but must fail first
-        assert p.returncode == 3, p.stderr
-        assert {f: (out / f).read_bytes() for f in before} == before, f"{args} touched the earlier results"
+    assert p.returncode == 3 and "already holds a run (history.csv); use FORCE=1" in p.stderr
+    assert files_of(out) == before

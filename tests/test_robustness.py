@@ -1,60 +1,232 @@
-"""No run loses data: flushed history, checkpoints and -restart, the IPOPT retry, a clean stop."""
+"""No run loses or mixes data (docs/errors.md): flushed history, checkpoints and
+-restart, refused restarts, write failures (a full disk), one run per output
+directory, the IPOPT retry and a clean stop."""
 import os
+import resource
+import shutil
 import signal
 import subprocess
 import time
 
 import numpy as np
+import pytest
 
-from conftest import RUN, run_scene
+from conftest import RUN, error_lines, files_of, refused_into_copy, run_scene
 from history import read_run
+
+SHORT = ["-progress", "0", "-vtk", "0"]
+
+
+def start(scene, out, args):
+    return subprocess.Popen([RUN, scene, str(out)] + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True, env=dict(os.environ, FORCE="1"))
+
+
+def wait_for_rows(history, rows, seconds=120):
+    deadline = time.time() + seconds
+    while time.time() < deadline:
+        if os.path.exists(history) and sum(1 for _ in open(history)) > rows:
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"{history} did not reach {rows} rows")
+
+
+def same_history(a, b, n=None):
+    for column in a:
+        diff = np.abs(a[column][:n] - b[column][:n]).max()
+        assert diff <= 1e-12, f"column {column} differs by {diff:.3g}"
 
 
 def test_killed_run_restarts_to_the_same_history(tmp_path, histories):
     out = tmp_path / "killed"
-    proc = subprocess.Popen([RUN, "test1", str(out), "-T", "20", "-checkpoint_every", "50", "-progress", "0",
-                             "-vtk", "0"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True, env=dict(os.environ, FORCE="1"))
-    history = out / "history.csv"
-    deadline = time.time() + 120
-    while time.time() < deadline:             # kill it on purpose, past a checkpoint, mid-run
-        if history.exists() and sum(1 for _ in open(history)) > 260:
-            break
-        time.sleep(0.05)
+    proc = start("test1", out, ["-T", "20", "-checkpoint_every", "50"] + SHORT)
+    wait_for_rows(out / "history.csv", 260)        # kill it on purpose, past a checkpoint, mid-run
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
-    rows_at_kill = sum(1 for _ in open(history)) - 1
-    step = int(open(out / "checkpoint.txt").readline().split()[0])
+    rows_at_kill = sum(1 for _ in open(out / "history.csv")) - 1
+    step = int(open(out / "checkpoint.txt").readline().split()[3])
     assert 200 <= step <= rows_at_kill < 400, (step, rows_at_kill)
 
-    run_scene("test1", str(out), ["-restart", str(out)])
+    p = run_scene("test1", out, ["-restart", str(out)])
+    assert "was left by a run that was killed" in p.stdout          # the stale lock is noticed
     restarted, whole = read_run(str(out)), histories["test1"]
     n = len(restarted["t"])
     assert n == 401 and (restarted["step"] == np.arange(n)).all()
-    for column in restarted:
-        diff = np.abs(restarted[column] - whole[column][:n]).max()
-        assert diff <= 1e-12, f"column {column} differs by {diff:.3g} after the restart"
+    same_history(restarted, whole, n)
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    """A finished run to T = 10 with checkpoints every 50 steps."""
+    out = tmp_path_factory.mktemp("finished") / "run"
+    run_scene("test1", out, ["-T", "10", "-checkpoint_every", "50", "-snapshots", "0,5"] + SHORT)
+    return str(out)
+
+
+def corrupt(path, how):
+    text = open(path).read()
+    if how == "empty":
+        text = ""
+    elif how == "truncated":
+        text = text[:len(text) // 2]
+    elif how == "a corrupt number":
+        lines = text.split("\n")
+        lines[3] = lines[3].replace(lines[3].split()[1], "1.2.3", 1)
+        text = "\n".join(lines)
+    open(path, "w").write(text)
+
+
+REFUSED = [
+    ([], None, "the run already reached step 200 (t = 10); give a -T larger than 10 to extend it"),
+    (["-T", "20", "-dt", "nan"], None, "-dt must be a number, got 'nan'"),
+    (["-T", "20", "-dt", "0.025"], None, "-dt 0.025 differs from the run's -dt 0.05; a restart continues the same "
+                                         "discrete problem and may change only -T and the output options"),
+    (["-T", "20", "-probes", "0,40"], None, "-probes 0,40 differs from the run's -probes none"),
+    (["-T", "20", "-lambda", "31"], None, "-lambda 31 differs from the run's -lambda 30"),
+    (["-T", "20", "-solver", "activeset"], None, "-solver activeset differs from the run's -solver ipopt"),
+    (["-T", "20", "-mesh", "meshes/disk_coarse.msh"], None,
+     "its checkpoint is for a mesh with 989 vertices and 1864 triangles; -mesh meshes/disk_coarse.msh has 277 and 496"),
+    (["-T", "20", "-snapshots", "3"], None, "-snapshots 3 is before the checkpoint (t = 10), and the run did not write it"),
+    (["-T", "20"], "empty", "checkpoint.txt is empty"),
+    (["-T", "20"], "truncated", "checkpoint.txt is truncated (no end marker)"),
+    (["-T", "20"], "a corrupt number", "checkpoint.txt is corrupt: '1.2.3' is not a finite number"),
+]
+
+
+@pytest.mark.parametrize("args,damage,message", REFUSED,
+                         ids=[" ".join(a) + (f" ({d} checkpoint)" if d else "") for a, d, _ in REFUSED])
+def test_refused_restart_leaves_the_run_byte_identical(tmp_path, finished, args, damage, message):
+    out = tmp_path / "run"
+    shutil.copytree(finished, out)
+    if damage:
+        corrupt(out / "checkpoint.txt", damage)
+    before = files_of(out)
+    p = run_scene("test1", out, ["-restart", str(out)] + args, check=False)
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
+    assert files_of(out) == before, "the refused restart changed the run's files"
+
+
+def test_restart_of_another_scene_is_refused(tmp_path, finished):
+    p, changed = refused_into_copy(tmp_path, finished, "test2", ["-restart", finished, "-T", "20"])
+    assert p.returncode == 3 and "it is a run of scene test1, not test2" in p.stderr and not changed
+
+
+def test_restart_into_a_directory_holding_another_run_needs_force(tmp_path, finished, earlier_run):
+    out = tmp_path / "other"
+    shutil.copytree(earlier_run, out)
+    before = files_of(out)
+    p = subprocess.run([RUN, "test1", str(out), "-restart", finished, "-T", "20"], capture_output=True, text=True,
+                       env={k: v for k, v in os.environ.items() if k != "FORCE"})
+    assert p.returncode == 3 and "already holds a run (history.csv); use FORCE=1" in p.stderr
+    assert files_of(out) == before
+
+
+def test_extending_T_continues_the_same_history(tmp_path, finished):
+    """-restart with a larger -T, into another directory: it holds the whole run, equal
+    to one run straight to the new T; the original run is untouched."""
+    before = files_of(finished)
+    out = tmp_path / "extended"
+    run_scene("test1", out, ["-restart", finished, "-T", "15"])
+    straight = tmp_path / "straight"
+    run_scene("test1", straight, ["-T", "15", "-checkpoint_every", "50", "-snapshots", "0,5"] + SHORT)
+    a, b = read_run(str(out)), read_run(str(straight))
+    assert len(a["t"]) == 301 and (a["step"] == np.arange(301)).all()
+    same_history(a, b)
+    assert sorted(f for f in os.listdir(out) if f.startswith("snapshot")) == ["snapshot_t0.csv", "snapshot_t5.csv"]
+    assert files_of(finished) == before
 
 
 def test_restart_without_checkpoint_is_a_clear_error(tmp_path):
-    p = run_scene("test1", str(tmp_path / "out"), ["-restart", str(tmp_path)], check=False)
+    p = run_scene("test1", tmp_path / "out", ["-restart", str(tmp_path)], check=False)
     assert p.returncode == 3 and "no checkpoint.txt there" in p.stderr
 
+
+# ---- a full disk: RLIMIT_FSIZE makes every write beyond the limit fail (EFBIG), as a
+# full disk does (ENOSPC); SIGXFSZ is ignored so that the write fails instead of killing.
+
+def disk_limit(kib):
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (kib * 1024, kib * 1024))
+    return limit
+
+
+@pytest.mark.parametrize("kib,args,message", [
+    (40, [], "cannot write mesh.msh in the output directory (disk full?); the output directory is unchanged"),
+    (100, ["-snapshots", "0", "-vtk", "1"], "cannot write vonmises_t0.vtu in the output directory (disk full?); "
+                                            "the output directory is unchanged"),
+], ids=["mesh", "vtu"])
+def test_full_disk_before_the_first_step_changes_nothing(tmp_path, earlier_run, kib, args, message):
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-T", "1", "-progress", "0"] + args,
+                                   preexec_fn=disk_limit(kib))
+    assert p.returncode == 7 and error_lines(p) == [f"error: {message}"], p.stderr
+    assert not changed
+
+
+def test_full_disk_mid_run_keeps_complete_rows_and_a_consistent_checkpoint(tmp_path):
+    """history.csv outgrows the limit at about step 580: the run stops with exit 7, the
+    history keeps its complete rows (a partial last row is removed), the last checkpoint
+    is complete, and once there is room again the restart gives the uninterrupted history."""
+    out = tmp_path / "full"
+    args = ["-T", "80", "-solver", "activeset", "-snapshots", "none", "-checkpoint_every", "100"] + SHORT
+    p = run_scene("test1", out, args, check=False, preexec_fn=disk_limit(100))
+    assert p.returncode == 7 and len(error_lines(p)) == 1
+    assert "cannot write history.csv in the output directory (disk full?); history.csv keeps every complete step" \
+        in error_lines(p)[0]
+    text = open(out / "history.csv").read()
+    assert text.endswith("\n")
+    h = read_run(str(out))
+    assert 400 < len(h["t"]) < 800 and (h["step"] == np.arange(len(h["t"]))).all()
+    assert np.isfinite(np.column_stack(list(h.values()))).all()
+    assert not (out / "summary.txt").exists() and not (out / "checkpoint.txt.part").exists()
+    run_scene("test1", out, ["-restart", str(out)])
+    straight = tmp_path / "straight"
+    run_scene("test1", straight, args)
+    same_history(read_run(str(out)), read_run(str(straight)))
+
+
+def test_full_disk_at_a_checkpoint_leaves_no_partial_file(tmp_path):
+    out = tmp_path / "full"
+    p = run_scene("test1", out, ["-T", "5", "-solver", "activeset", "-snapshots", "none", "-checkpoint_every", "50"]
+                  + SHORT, check=False, preexec_fn=disk_limit(80))
+    assert p.returncode == 7 and "cannot write checkpoint.txt in the output directory (disk full?)" in p.stderr
+    assert sorted(f for f in os.listdir(out) if "checkpoint" in f) == []
+    assert len(read_run(str(out))["t"]) >= 51
+
+
+# ---- one run per output directory
+
+def test_second_run_into_a_busy_directory_is_refused(tmp_path):
+    out = tmp_path / "busy"
+    first = start("test1", out, ["-T", "20"] + SHORT)
+    wait_for_rows(out / "history.csv", 20)
+    p = run_scene("test1", out, ["-T", "1", "-solver", "activeset"] + SHORT, check=False)
+    assert p.returncode == 3 and len(error_lines(p)) == 1
+    assert f"is in use by another run (pid {first.pid}, started " in error_lines(p)[0]
+    assert first.poll() is None                       # the first run goes on
+    os.killpg(first.pid, signal.SIGKILL)
+    first.wait()
+    h = read_run(str(out))
+    assert (h["step"] == np.arange(len(h["t"]))).all() and len(h["t"]) > 21   # one run's rows, in order
+
+
+# ---- IPOPT failures
 
 def test_ipopt_failure_is_retried_from_u_n(tmp_path, histories):
     # max_iter 1 makes every first IPOPT attempt fail; the retry must give the same step
     out = tmp_path / "retry"
-    run_scene("test1", str(out), ["-T", "12", "-ipopt_max_iter", "1", "-progress", "0", "-vtk", "0"])
+    run_scene("test1", out, ["-T", "12", "-ipopt_max_iter", "1"] + SHORT)
     h = read_run(str(out))
     n = len(h["t"])
     assert np.abs(h["u2_low"] - histories["test1"]["u2_low"][:n]).max() < 1e-6
-    summary = dict(line.split() for line in open(out / "summary.txt"))
+    summary = dict(line.split(None, 1) for line in open(out / "summary.txt"))
     assert int(summary["ipopt_retries"]) == int(h["qp_solved"].sum()) > 0
 
 
 def test_failed_step_stops_cleanly_and_keeps_the_history(tmp_path):
     out = tmp_path / "fail"
-    p = run_scene("test1", str(out), ["-T", "12", "-ipopt_max_iter", "1", "-ipopt_retry", "0", "-progress", "0"],
+    p = run_scene("test1", out, ["-T", "12", "-ipopt_max_iter", "1", "-ipopt_retry", "0", "-progress", "0"],
                   check=False)
     assert p.returncode == 4
     errors = [line for line in p.stderr.splitlines() if line.strip()]

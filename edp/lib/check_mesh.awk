@@ -1,0 +1,77 @@
+# check_mesh.awk -- validate a gmsh MSH 2.2 ASCII file before FreeFEM's gmshload
+# reads it (gmshload crashes, or reads garbage, on a defective file).
+# usage: awk -v name=NAME -f check_mesh.awk FILE
+# Prints one line "error: -mesh NAME: <defect>" and exits 3 on the first defect;
+# silent with exit 0 for a mesh that gmshload can read: ASCII MSH 2.2, complete
+# $Nodes and $Elements sections, finite coordinates, elements of type 15 (point),
+# 1 (2-node line) or 2 (3-node triangle) on existing nodes, at least one triangle,
+# and every triangle counter-clockwise with a positive area.
+function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
+function isnum(s) { return s ~ /^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$/ }
+function isint(s) { return s ~ /^[0-9]+$/ }
+BEGIN { section = ""; line = 0 }
+{ sub(/\r$/, "") }
+NR == 1 { if ($0 != "$MeshFormat") fail("not a gmsh MSH file (its first line is not $MeshFormat)"); section = "format"; next }
+section == "format" {
+  if ($0 == "$EndMeshFormat") { if (!version) fail("$MeshFormat is empty"); section = ""; next }
+  if (version) fail("$MeshFormat has more than one line")
+  version = $1
+  if ($1 != "2.2") fail("MSH version " $1 ", not 2.2 (write it with gmsh -2 -format msh22)")
+  if ($2 != "0") fail("binary MSH 2.2; FreeFEM's gmshload reads ASCII only (write it without -bin)")
+  next
+}
+section == "" && /^\$/ {
+  section = substr($0, 2)
+  if (section == "Elements" && !done["Nodes"]) fail("$Elements before $Nodes")
+  if (section == "Nodes" || section == "Elements") { count = -1; read = 0 }
+  next
+}
+section == "" && NF == 0 { next }
+section == "" { fail("unexpected line " NR " outside any section: '" substr($0, 1, 40) "'") }
+# $Nodes and $Elements: a count, that many lines, then $EndNodes or $EndElements
+section != "Nodes" && section != "Elements" { if ($0 == "$End" section) section = ""; next }
+count < 0 {
+  if (!isint($1) || NF != 1 || $1 + 0 == 0) fail("$" section " must start with a positive count, line " NR " is '" $0 "'")
+  count = $1 + 0; next
+}
+$0 == "$End" section {
+  if (read < count) fail("truncated in $" section ": " read " of " count " " tolower(section))
+  done[section] = 1; section = ""; next
+}
+read == count { fail("$" section " has more than the " count " " tolower(section) " it announces (line " NR ")") }
+section == "Nodes" {
+  if (NF != 4 || !isint($1) || !isnum($2) || !isnum($3) || !isnum($4))
+    fail("line " NR " in $Nodes is not 'id x y z': '" substr($0, 1, 60) "'")
+  if ($2 + 0 > 1e30 || $2 + 0 < -1e30 || $3 + 0 > 1e30 || $3 + 0 < -1e30) fail("node " $1 " has a coordinate beyond 1e30")
+  if ($1 in X) fail("node " $1 " is defined twice")
+  X[$1] = $2 + 0; Y[$1] = $3 + 0; read++
+  next
+}
+section == "Elements" {
+  for (i = 1; i <= NF; i++) if (!isint($i)) fail("line " NR " in $Elements is not a list of integers: '" substr($0, 1, 60) "'")
+  type = $2 + 0; ntags = $3 + 0
+  nodes = (type == 15) ? 1 : (type == 1) ? 2 : (type == 2) ? 3 : -1
+  if (nodes < 0) fail("element " $1 " has type " type "; only points (15), 2-node lines (1) and 3-node triangles (2) are supported")
+  if (NF != 3 + ntags + nodes) fail("element " $1 " (line " NR ") has " NF " fields, its type and tags need " 3 + ntags + nodes)
+  for (i = NF - nodes + 1; i <= NF; i++) if (!($i in X)) fail("element " $1 " uses node " $i ", which $Nodes does not define")
+  if (type == 2) {
+    a = $(NF - 2); b = $(NF - 1); c = $NF
+    area = ((X[b] - X[a]) * (Y[c] - Y[a]) - (X[c] - X[a]) * (Y[b] - Y[a])) / 2
+    scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
+    if (area < 0) fail("triangle " $1 " is inverted (clockwise, area " area "); FreeFEM needs counter-clockwise triangles")
+    if (!(area > 1e-12 * scale)) fail("triangle " $1 " is degenerate (area " area ")")
+    triangles++
+  }
+  read++
+  next
+}
+END {
+  if (failed) exit 3
+  if (NR == 0) fail("the file is empty")
+  if (section == "format") fail("truncated in $MeshFormat")
+  if (section == "Nodes" || section == "Elements") fail("truncated in $" section ": " read " of " count " " tolower(section) ", no $End" section)
+  if (section != "") fail("truncated in $" section)
+  if (!done["Nodes"]) fail("no $Nodes section")
+  if (!done["Elements"]) fail("no $Elements section")
+  if (!triangles) fail("no triangles (element type 2)")
+}
