@@ -67,7 +67,7 @@ meshes/%.msh: meshes/disk.geo | deps-run
 
 # ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
 run: meshes/disk.msh | deps-run
-	$(RUN) $(SCENE) $(OUT) $(ARGS)
+	$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
 
 # ---- the paper's tests (results are rebuilt when the code or scene changes).
 # summary.txt is written last, so a killed run is never taken as up to date.

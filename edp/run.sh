@@ -67,35 +67,47 @@ fi
 [ -w "$out" ] || err "output directory $out cannot be written"
 out=$(cd "$out" && pwd -P)
 stage=$out/.staging
-exec 9>>"$out/.lock" || err "output directory $out cannot be written"
-if ! flock -n 9; then
-  err "$out is in use by another run ($(head -c 200 "$out/.lock" | tr -d '\n')); wait for it to end or stop it"
-fi
-if [ -s "$out/.lock" ]; then
-  echo "note: $out was left by a run that was killed ($(head -c 200 "$out/.lock" | tr -d '\n')); taking it over"
-fi
-errfile=$(mktemp)
+lock_holder() { head -c 200 "$1/.lock" 2>/dev/null | tr -d '\n'; }
+{ exec 9>>"$out/.lock"; } 2>/dev/null || err "output directory $out cannot be written"
+flock -n 9 || err "$out is in use by another run ($(lock_holder "$out")); wait for it to end or stop it"
+# the lock must be the file that is there now (a refused run may just have removed a directory it created)
+[ "$(stat -L -c %d:%i /dev/fd/9)" = "$(stat -c %d:%i "$out/.lock" 2>/dev/null)" ] ||
+  err "$out is being created or removed by another run; try again"
+stale=$(lock_holder "$out")
+errfile=$(mktemp 2>/dev/null) || err "cannot create a temporary file (is /tmp full?)" 7
 cleanup() {
+  local committed=0
+  [ -e "$stage/.committed" ] && committed=1
   rm -f "$errfile"
-  if [ -e "$stage/.committed" ] || [ "$created" = 0 ]; then
-    rm -rf "$stage"
+  rm -rf "$stage"
+  if [ $committed = 1 ] || [ "$created" = 0 ]; then
     : > "$out/.lock"
-  else
-    rm -rf "$out"                    # created here and never started: leave no trace
+  else                               # created here and never started: leave no trace
+    rm -f "$out/.lock"
+    rmdir "$out" 2>/dev/null
   fi
 }
 trap cleanup EXIT
-printf 'pid %s, started %s: run.sh %s %s' "$$" "$(date '+%Y-%m-%d %H:%M:%S')" "$scene" "$out_arg" > "$out/.lock"
+printf 'pid %s, started %s: run.sh %s %s' "$$" "$(date '+%Y-%m-%d %H:%M:%S')" "$scene" "$out_arg" > "$out/.lock" ||
+  err "cannot write into $out (disk full?)" 7
+[ -z "$stale" ] || echo "note: $out was left by a run that was killed ($stale); taking it over"
 
 same_dir=0
 [ "$restart_dir" = "$out" ] && same_dir=1
 if [ -e "$out/history.csv" ] && [ "${FORCE:-0}" != 1 ] && [ $same_dir = 0 ]; then
   err "$out already holds a run (history.csv); use FORCE=1 to replace it, or another OUT"
 fi
+# a run restarted into another OUT must not be running: its lock too
+if [ -n "$restart_dir" ] && [ $same_dir = 0 ] && { exec 8>>"$restart_dir/.lock"; } 2>/dev/null; then
+  flock -n 8 || err "-restart $restart_dir: that run is still going ($(lock_holder "$restart_dir")); wait for it to end or stop it"
+fi
 rm -rf "$stage"
-mkdir "$stage" && cp "$scene_file" "$stage/scene.idp" || err "cannot write into $out (disk full?)" 7
+{ mkdir "$stage" && cp "$scene_file" "$stage/scene.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
+if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
+  cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+fi
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
-cat > "$stage/ipopt.opt" <<'OPT' || err "cannot write into $out (disk full?)" 7
+cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
 # no banner
 sb yes
 # keep C x <= g exactly (the default 1e-8 relaxation lets the body sink ~3e-8 into the foundation)
@@ -106,10 +118,12 @@ OPT
 export FF_LOADPATH=/usr/lib/freefem++
 export FF_INCLUDEPATH="$stage;/usr/include/freefem++/idp"
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
-# FreeFEM writes everything to stdout: "error:" and "warning:" lines go to stderr,
-# FreeFEM's traces are dropped (a compile error in the scene becomes one error
-# line naming the scene and the line), and on a terminal the progress line is
-# rewritten in place (in a log: every 10th, or one a minute at least).
+# FreeFEM writes everything to stdout. The filter keeps the driver's own lines
+# ("error:" and "warning:" ones go to stderr) and drops FreeFEM's traces, keeping
+# the first message of one for the error line. A compile error in the scene becomes
+# one line naming the scene file and the line; a file of the run that cannot be
+# opened for writing is a write failure (7). On a terminal the progress line is
+# rewritten in place; in a log every 10th is kept, and one a minute at least.
 tty=0
 [ -t 1 ] && tty=1
 # CONTACT_DEBUG=1 also shows FreeFEM's raw output on stderr (for developers).
@@ -118,32 +132,39 @@ raw=/dev/null
 # (No exec: the subshell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
 (cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}") 2>&1 | tee "$raw" | awk -v tty=$tty \
     -v scene="$scene_file" -v errfile="$errfile" '
-  /^error: |^warning: / { if (pending) { printf "\n"; pending = 0 } print > "/dev/stderr"; fflush("/dev/stderr"); next }
-  /Error line number [0-9]+, in file / {
-    line = $0; sub(/.*Error line number /, "", line); sub(/,.*/, "", line)
-    token = $0; sub(/.*before  *token */, "", token)
-    file = $0; sub(/.*, in file /, "", file); sub(/, before.*/, "", file)
-    if (file ~ /scene\.idp$/) {
-      printf "error: scene %s, line %s: %s (before \"%s\")\n", scene, line, (reason == "" ? "syntax error" : reason), token > "/dev/stderr"
-      compile = 3
-    } else detail = "compile error in " file ", line " line ": " (reason == "" ? "syntax error" : reason)
-    next
-  }
-  /^ *The Identifier .* does not exist|^ *No operator/ { reason = $0; gsub(/^ +| +$/, "", reason); next }
-  /^ Error opening file / { opened = $0; sub(/^ Error opening file /, "", opened); next }
-  /Exec error|Assertion fail|^ *Error|Fatal error|Segmentation fault|Aborted|Killed/ { if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) } next }
-  /^$/ || /^  current line = / || /^ call .* at  line / || /^exit\(/ || /^ err code / || /^ *code = / ||
-  /^Compile error/ || /^error Compile error/ || /^\tline number :/ || /^ *-- number :/ || /^syntax error$/ || /^\tline :/ { next }
+  function newline() { if (pending) { printf "\n"; pending = 0 } }
+  /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
+  /^(note: |mesh |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
   /^progress / { sub(/^progress /, "")
                  if (tty) { printf "\r%s   ", $0; pending = 1 }
                  else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)
                         if (++np % 10 == 0 || el + 0 >= shown + 60) { print; shown = el + 0 } }
                  fflush(); next }
-  { if (pending) { printf "\n"; pending = 0 } print; fflush() }
-  END { if (pending) printf "\n"
-        if (opened != "") { print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
-        if (detail != "") print detail > errfile
-        exit compile }'
+  /Error line number [0-9]+, in file / {
+    line = $0; sub(/.*Error line number /, "", line); sub(/,.*/, "", line)
+    token = $0; sub(/.*before  *token */, "", token)
+    file = $0; sub(/.*, in file /, "", file); sub(/, before.*/, "", file)
+    if (reason == "") reason = "syntax error"
+    if (file ~ /scene\.idp$/) {
+      newline()
+      printf "error: scene %s, line %s: %s (before \"%s\")\n", scene, line, reason, token > "/dev/stderr"
+      compile = 3
+    } else if (detail == "") detail = "compile error in " file ", line " line ": " reason
+    next
+  }
+  /^ *The Identifier .* does not exist|^ *No operator|^ Error opening file .* in: / {
+    if (reason == "") { reason = $0; gsub(/^ +| +$/, "", reason) } next }
+  /^ Error opening file / { if (opened == "") { opened = $0; sub(/^ Error opening file /, "", opened) } next }
+  /Exec error|Assertion fail|Error|error|Segmentation fault|Aborted|Killed|Out of bound|bug/ {
+    if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) } next }
+  { next }
+  END { newline()
+        if (compile) exit 3
+        # the files the run writes (output.idp, contact.edp): a failed open is a failed write
+        if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
+          print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
+        if (opened != "" && detail == "") detail = "cannot open " opened
+        if (detail != "") print detail > errfile }'
 status=("${PIPESTATUS[@]}")
 rc=${status[0]} filter=${status[2]}
 case "$rc" in
@@ -152,7 +173,8 @@ case "$rc" in
        exit_status=$filter
      else
        detail=$(head -c 300 "$errfile")
-       echo "error: FreeFEM stopped unexpectedly (exit $rc${detail:+: $detail}); this is a bug in the suite, please report it" >&2
+       echo "error: FreeFEM stopped with an unexpected error (exit $rc${detail:+: $detail}); if the scene is your own, check it," \
+            "otherwise this is a bug in the suite: please report it (CONTACT_DEBUG=1 shows FreeFEM's output)" >&2
        exit_status=1
      fi ;;
 esac

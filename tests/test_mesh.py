@@ -73,6 +73,16 @@ def quadrangles():
     return "\n".join(lines)
 
 
+def tiny():
+    """The paper's mesh scaled by 1e-5: every triangle below gmshload's 1e-8."""
+    lines = paper_lines()
+    k = lines.index("$Nodes") + 2
+    for i in range(k, k + int(lines[k - 1])):
+        f = lines[i].split()
+        lines[i] = " ".join([f[0], repr(float(f[1]) * 1e-5), repr(float(f[2]) * 1e-5), f[3]])
+    return "\n".join(lines)
+
+
 DEFECTS = {
     "truncated in $Nodes": (lambda: truncated_in("$Nodes"), "truncated in $Nodes: 98 of 989 nodes, no $EndNodes"),
     "truncated in $Elements": (lambda: truncated_in("$Elements"), "truncated in $Elements: 98 of 1976 elements, no $EndElements"),
@@ -83,6 +93,7 @@ DEFECTS = {
     "not a mesh": (lambda: "not a mesh\n", "not a gmsh MSH file (its first line is not $MeshFormat)"),
     "MSH 4.1": (lambda: "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n", "MSH version 4.1, not 2.2"),
     "empty": (lambda: "", "the file is empty"),
+    "tiny triangles": (tiny, "below the 1e-8 that FreeFEM's gmshload accepts"),
 }
 
 

@@ -122,6 +122,30 @@ def test_scene_error_names_the_scene_file_and_line(tmp_path, earlier_run, text, 
     assert f"error: scene {scene}, {message}" in errors[0] and not changed
 
 
+@pytest.mark.parametrize("text,message", [
+    ('include "nope.idp"\n', "line 1: Error opening file nope.idp in:"),
+    ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene)"),
+    ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene)"),
+], ids=["include", "nan", "huge"])
+def test_scene_that_includes_a_missing_file_or_sets_a_non_finite_value(tmp_path, earlier_run, text, message):
+    scene = write_scene(tmp_path, "bad", text)
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr + p.stdout
+    assert not changed and not p.stdout.strip().startswith("--")
+
+
+def test_scene_error_during_the_run_is_one_line(tmp_path):
+    """A scene whose macro fails only when evaluated: FreeFEM stops, and the suite says
+    so in one line that points at the scene (exit 1), without FreeFEM's trace."""
+    scene = write_scene(tmp_path, "oob", 'foundation = "user";\nT = 1;\nsnapshots = "none";\nreal[int] tiny(2);\n'
+                        "macro userFoundationPsi(X1, t) (tiny[7] - 2) // EOM\nmacro userFoundationDpsi(X1, t) 0 // EOM\n")
+    p = run_scene(scene, tmp_path / "out", ["-progress", "0"], check=False)
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 1 and len(errors) == 1 and "Out of bound" in errors[0] and "if the scene is your own" in errors[0]
+    assert all(line.startswith(("mesh ", "note: ")) for line in p.stdout.splitlines()), p.stdout
+
+
 def test_scene_mesh_is_used(tmp_path):
     """A scene that sets meshFile (relative to the repository) runs on that mesh."""
     scene = write_scene(tmp_path, "coarse", 'T = 0.1;\nsnapshots = "none";\nmeshFile = "meshes/disk_coarse.msh";\n')
@@ -181,7 +205,7 @@ def test_non_finite_step_stops_the_run(tmp_path):
 
 def test_make_run_writes_its_own_directory_and_needs_no_test_packages():
     p = subprocess.run(["make", "-n", "run", "SCENE=test1"], cwd=ROOT, capture_output=True, text=True)
-    assert p.returncode == 0 and "edp/run.sh test1 results/runs/test1" in p.stdout
+    assert p.returncode == 0 and 'edp/run.sh "test1" "results/runs/test1"' in p.stdout
     assert "pytest" not in p.stdout and "matplotlib" not in p.stdout
     p = subprocess.run(["make", "-n", "-B", "test1"], cwd=ROOT, capture_output=True, text=True)
     assert "results/test1" in p.stdout

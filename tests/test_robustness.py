@@ -73,7 +73,23 @@ def corrupt(path, how):
         lines = text.split("\n")
         lines[3] = lines[3].replace(lines[3].split()[1], "1.2.3", 1)
         text = "\n".join(lines)
+    elif how == "an overflowing header":
+        head, rest = text.split("\n", 1)
+        fields = head.split()
+        fields[4] = "1e999"
+        text = " ".join(fields) + "\n" + rest
     open(path, "w").write(text)
+
+
+def damage_history(path, how):
+    lines = open(path).read().split("\n")
+    if how == "other columns":
+        lines[0] = lines[0] + ",extra"
+    elif how == "an incomplete row":
+        lines[50] = lines[50].rsplit(",", 3)[0]
+    elif how == "rows missing":
+        lines = lines[:120]
+    open(path, "w").write("\n".join(lines))
 
 
 REFUSED = [
@@ -90,6 +106,7 @@ REFUSED = [
     (["-T", "20"], "empty", "checkpoint.txt is empty"),
     (["-T", "20"], "truncated", "checkpoint.txt is truncated (no end marker)"),
     (["-T", "20"], "a corrupt number", "checkpoint.txt is corrupt: '1.2.3' is not a finite number"),
+    (["-T", "20"], "an overflowing header", "checkpoint.txt header field 5 is not a finite number ('1e999')"),
 ]
 
 
@@ -105,6 +122,38 @@ def test_refused_restart_leaves_the_run_byte_identical(tmp_path, finished, args,
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
     assert files_of(out) == before, "the refused restart changed the run's files"
+
+
+@pytest.mark.parametrize("how,message", [
+    ("other columns", "its history.csv has other columns than this run writes"),
+    ("an incomplete row", "its history.csv is incomplete or out of order at line 51 (step 49)"),
+    ("rows missing", "its history.csv stops at step 118, before the checkpoint (step 200)"),
+])
+def test_restart_from_a_damaged_history_is_refused(tmp_path, finished, how, message):
+    out = tmp_path / "run"
+    shutil.copytree(finished, out)
+    damage_history(out / "history.csv", how)
+    before = files_of(out)
+    p = run_scene("test1", out, ["-restart", str(out), "-T", "20"], check=False)
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
+    assert files_of(out) == before
+
+
+def test_restart_needs_the_runs_snapshots(tmp_path, finished):
+    """The snapshots up to the checkpoint are kept: one that is missing is refused, and a
+    killed run's temporary file is not carried over."""
+    out = tmp_path / "run"
+    shutil.copytree(finished, out)
+    os.remove(out / "snapshot_t5.csv")
+    before = files_of(out)
+    p = run_scene("test1", out, ["-restart", str(out), "-T", "20"], check=False)
+    assert p.returncode == 3 and "its snapshot_t5.csv is missing" in p.stderr and files_of(out) == before
+    shutil.rmtree(out)
+    shutil.copytree(finished, out)
+    (out / "vonmises_t3.part.vtu").write_text("half a file")
+    run_scene("test1", out, ["-restart", str(out), "-T", "11"])
+    assert not (out / "vonmises_t3.part.vtu").exists()
 
 
 def test_restart_of_another_scene_is_refused(tmp_path, finished):
@@ -209,6 +258,17 @@ def test_second_run_into_a_busy_directory_is_refused(tmp_path):
     first.wait()
     h = read_run(str(out))
     assert (h["step"] == np.arange(len(h["t"]))).all() and len(h["t"]) > 21   # one run's rows, in order
+
+
+def test_restart_from_a_run_that_is_still_going_is_refused(tmp_path):
+    busy = tmp_path / "busy"
+    first = start("test1", busy, ["-T", "20", "-checkpoint_every", "20"] + SHORT)
+    wait_for_rows(busy / "history.csv", 30)
+    p = run_scene("test1", tmp_path / "other", ["-restart", str(busy), "-T", "30"], check=False)
+    assert p.returncode == 3 and len(error_lines(p)) == 1 and "that run is still going (pid" in error_lines(p)[0]
+    assert not (tmp_path / "other").exists()
+    os.killpg(first.pid, signal.SIGKILL)
+    first.wait()
 
 
 # ---- IPOPT failures

@@ -1,20 +1,19 @@
 # check_checkpoint.awk -- check a checkpoint.txt whole before FreeFEM reads it
 # (FreeFEM aborts without a useful message on a malformed number).
-# usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M -f check_checkpoint.awk FILE
+# usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M \
+#            -f numbers.awk -f check_checkpoint.awk FILE
 # Format (output.idp, writeCheckpoint): one header line
 #   checkpoint 2 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT
 # then u (NDOF values), v (NDOF values) and the active set (NCONTACT values 0 or 1),
 # each as FreeFEM writes an array (its size, then the values), then "end STEP".
 # Prints one line "error: -restart DIR: ..." and exits 3 on the first defect.
 function fail(msg) { printf "error: -restart %s: %s\n", name, msg; failed = 1; exit 3 }
-function isnum(s) { return s ~ /^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$/ }
-function isint(s) { return s ~ /^[0-9]+$/ }
 NR == 1 {
   if ($1 != "checkpoint") fail("checkpoint.txt is not a checkpoint (empty or corrupt)")
   if ($2 != "2" || NF != 12) fail("checkpoint.txt has another format (written by another version); start a new run")
   if ($3 != scene) fail("it is a run of scene " $3 ", not " scene)
   if (!isint($4) || $4 + 0 < 1) fail("checkpoint.txt has no valid step ('" $4 "')")
-  for (i = 5; i <= 12; i++) if (!isnum($i)) fail("checkpoint.txt header field " i " is not a number ('" $i "')")
+  for (i = 5; i <= 12; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
   if ($8 != nv || $9 != nt) fail("its checkpoint is for a mesh with " $8 " vertices and " $9 " triangles; -mesh " mesh " has " nv " and " nt)
   if ($11 != ndof || $12 != ncontact) fail("checkpoint.txt is for " $11 " unknowns and " $12 " contact vertices, this mesh has " ndof " and " ncontact)
   step = $4; part = 0; expect = -1; next
@@ -30,7 +29,7 @@ NR == 1 {
       if (tok != want) fail("checkpoint.txt is corrupt: array " part + 1 " has size '" tok "', expected " want)
       expect = want; continue
     }
-    if (!isnum(tok) || tok + 0 > 1e300 || tok + 0 < -1e300) fail("checkpoint.txt is corrupt: '" substr(tok, 1, 30) "' is not a finite number")
+    if (!isfinite(tok)) fail("checkpoint.txt is corrupt: '" substr(tok, 1, 30) "' is not a finite number")
     if (part == 2 && tok != "0" && tok != "1") fail("checkpoint.txt is corrupt: an active-set entry is '" tok "'")
     if (--expect == 0) { part++; expect = -1 }
   }

@@ -1,15 +1,17 @@
 # check_mesh.awk -- validate a gmsh MSH 2.2 ASCII file before FreeFEM's gmshload
 # reads it (gmshload crashes, or reads garbage, on a defective file).
-# usage: awk -v name=NAME -f check_mesh.awk FILE
+# usage: awk -v name=NAME -f numbers.awk -f check_mesh.awk FILE
 # Prints one line "error: -mesh NAME: <defect>" and exits 3 on the first defect;
 # silent with exit 0 for a mesh that gmshload can read: ASCII MSH 2.2, complete
 # $Nodes and $Elements sections, finite coordinates, elements of type 15 (point),
 # 1 (2-node line) or 2 (3-node triangle) on existing nodes, at least one triangle,
 # and every triangle counter-clockwise with a positive area.
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
-function isnum(s) { return s ~ /^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$/ }
-function isint(s) { return s ~ /^[0-9]+$/ }
-BEGIN { section = ""; line = 0 }
+BEGIN {
+  section = ""
+  if ((getline first < ARGV[1]) < 0) fail("file missing or unreadable")
+  close(ARGV[1])
+}
 { sub(/\r$/, "") }
 NR == 1 { if ($0 != "$MeshFormat") fail("not a gmsh MSH file (its first line is not $MeshFormat)"); section = "format"; next }
 section == "format" {
@@ -42,7 +44,7 @@ read == count { fail("$" section " has more than the " count " " tolower(section
 section == "Nodes" {
   if (NF != 4 || !isint($1) || !isnum($2) || !isnum($3) || !isnum($4))
     fail("line " NR " in $Nodes is not 'id x y z': '" substr($0, 1, 60) "'")
-  if ($2 + 0 > 1e30 || $2 + 0 < -1e30 || $3 + 0 > 1e30 || $3 + 0 < -1e30) fail("node " $1 " has a coordinate beyond 1e30")
+  if (!isfinite($2) || !isfinite($3)) fail("node " $1 " has a coordinate that is not a finite number")
   if ($1 in X) fail("node " $1 " is defined twice")
   X[$1] = $2 + 0; Y[$1] = $3 + 0; read++
   next
@@ -60,6 +62,7 @@ section == "Elements" {
     scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
     if (area < 0) fail("triangle " $1 " is inverted (clockwise, area " area "); FreeFEM needs counter-clockwise triangles")
     if (!(area > 1e-12 * scale)) fail("triangle " $1 " is degenerate (area " area ")")
+    if (area < 1e-8) fail("triangle " $1 " has an area of " area ", below the 1e-8 that FreeFEM's gmshload accepts; scale the mesh up")
     triangles++
   }
   read++
