@@ -1,0 +1,34 @@
+"""The cost of every scene at its own T (the numbers of docs/scenes.md): QP steps,
+steps and wall seconds, one run at a time, on the paper's mesh with the default
+solver. Usage: python3 postprocess/scene_costs.py [--out results/scene_costs]"""
+import argparse
+import glob
+import os
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from history import read_run  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--out", default=os.path.join(ROOT, "results", "scene_costs"))
+    a = p.parse_args()
+    print("| scene | QP steps / steps | wall s |\n| --- | ---: | ---: |")
+    for path in sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp"))):
+        scene = os.path.basename(path)[:-4]
+        out = os.path.join(a.out, scene)
+        t0 = time.perf_counter()
+        subprocess.run([os.path.join(ROOT, "edp", "run.sh"), scene, out, "-progress", "0"],
+                       check=True, capture_output=True, env=dict(os.environ, FORCE="1"))
+        wall = time.perf_counter() - t0
+        h = read_run(out)
+        print(f"| `{scene}` | {int(h['qp_solved'].sum())} / {len(h['t']) - 1} | {wall:.3g} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
