@@ -135,15 +135,17 @@ def test_scene_that_includes_a_missing_file_or_sets_a_non_finite_value(tmp_path,
     assert not changed and not p.stdout.strip().startswith("--")
 
 
-def test_scene_error_during_the_run_is_one_line(tmp_path):
-    """A scene whose macro fails only when evaluated: FreeFEM stops, and the suite says
-    so in one line that points at the scene (exit 1), without FreeFEM's trace."""
+def test_scene_that_fails_when_evaluated_is_one_line(tmp_path, earlier_run):
+    """A scene whose macro fails only when evaluated (here by the start-up check of psi):
+    FreeFEM stops, and the suite says so in one line that points at the scene (exit 1),
+    without FreeFEM's trace, and before anything reaches OUT."""
     scene = write_scene(tmp_path, "oob", 'foundation = "user";\nT = 1;\nsnapshots = "none";\nreal[int] tiny(2);\n'
                         "macro userFoundationPsi(X1, t) (tiny[7] - 2) // EOM\nmacro userFoundationDpsi(X1, t) 0 // EOM\n")
-    p = run_scene(scene, tmp_path / "out", ["-progress", "0"], check=False)
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 1 and len(errors) == 1 and "Out of bound" in errors[0] and "if the scene is your own" in errors[0]
     assert all(line.startswith(("mesh ", "note: ")) for line in p.stdout.splitlines()), p.stdout
+    assert not changed
 
 
 def test_scene_mesh_is_used(tmp_path):
