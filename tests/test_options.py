@@ -126,8 +126,9 @@ def test_scene_error_names_the_scene_file_and_line(tmp_path, earlier_run, text, 
     ('include "nope.idp"\n', "line 1: Error opening file nope.idp in:"),
     ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene)"),
     ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene)"),
-], ids=["include", "nan", "huge"])
-def test_scene_that_includes_a_missing_file_or_sets_a_non_finite_value(tmp_path, earlier_run, text, message):
+    ('checkpointEvery = 0;\n', "-checkpoint_every must be an integer in [1, 1000000000] (from the scene), got 0"),
+], ids=["include", "nan", "huge", "integer"])
+def test_scene_that_includes_a_missing_file_or_sets_a_value_out_of_range(tmp_path, earlier_run, text, message):
     scene = write_scene(tmp_path, "bad", text)
     p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
     errors = [line for line in p.stderr.splitlines() if line.strip()]
