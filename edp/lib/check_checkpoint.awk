@@ -3,17 +3,18 @@
 # usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M \
 #            -f numbers.awk -f check_checkpoint.awk FILE
 # Format (output.idp, writeCheckpoint): one header line
-#   checkpoint 2 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT
-# then u (NDOF values), v (NDOF values) and the active set (NCONTACT values 0 or 1),
+#   checkpoint 3 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN
+# then u (NDOF values), v (NDOF values), the active set (NCONTACT values 0 or 1) and
+# the contact multipliers (NCONTACT values),
 # each as FreeFEM writes an array (its size, then the values), then "end STEP".
 # Prints one line "error: -restart DIR: ..." and exits 3 on the first defect.
 function fail(msg) { printf "error: -restart %s: %s\n", name, msg; failed = 1; exit 3 }
 NR == 1 {
   if ($1 != "checkpoint") fail("checkpoint.txt is not a checkpoint (empty or corrupt)")
-  if ($2 != "2" || NF != 12) fail("checkpoint.txt has another format (written by another version); start a new run")
+  if ($2 != "3" || NF != 15) fail("checkpoint.txt has another format (written by another version); start a new run")
   if ($3 != scene) fail("it is a run of scene " $3 ", not " scene)
   if (!isint($4) || $4 + 0 < 1) fail("checkpoint.txt has no valid step ('" $4 "')")
-  for (i = 5; i <= 12; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
+  for (i = 5; i <= 15; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
   if ($8 != nv || $9 != nt) fail("its checkpoint is for a mesh with " $8 " vertices and " $9 " triangles; -mesh " mesh " has " nv " and " nt)
   if ($11 != ndof || $12 != ncontact) fail("checkpoint.txt is for " $11 " unknowns and " $12 " contact vertices, this mesh has " ndof " and " ncontact)
   step = $4; part = 0; expect = -1; next
@@ -21,9 +22,9 @@ NR == 1 {
 {
   for (i = 1; i <= NF; i++) {
     tok = $i
-    if (part == 3) { if (tok != "end") fail("checkpoint.txt has more values than its header announces"); part = 4; continue }
-    if (part == 4) { if (tok != step) fail("checkpoint.txt ends with 'end " tok "', its header says step " step); part = 5; continue }
-    if (part == 5) fail("checkpoint.txt goes on after its end marker")
+    if (part == 4) { if (tok != "end") fail("checkpoint.txt has more values than its header announces"); part = 5; continue }
+    if (part == 5) { if (tok != step) fail("checkpoint.txt ends with 'end " tok "', its header says step " step); part = 6; continue }
+    if (part == 6) fail("checkpoint.txt goes on after its end marker")
     if (expect < 0) {
       want = (part < 2) ? ndof : ncontact
       if (tok != want) fail("checkpoint.txt is corrupt: array " part + 1 " has size '" tok "', expected " want)
@@ -37,5 +38,5 @@ NR == 1 {
 END {
   if (failed) exit 3
   if (NR == 0) fail("checkpoint.txt is empty")
-  if (part != 5) fail("checkpoint.txt is truncated (no end marker); the run was killed while writing it, or the disk was full")
+  if (part != 6) fail("checkpoint.txt is truncated (no end marker); the run was killed while writing it, or the disk was full")
 }
