@@ -13,18 +13,21 @@ def test_freeflight_conserves_the_modified_energy_to_roundoff(histories):
     assert np.abs(h["v1_mean"] - 0.3).max() < 1e-12            # no horizontal force
 
 
-def test_incline_slides_with_g_sin_theta(histories):
+@pytest.mark.parametrize("name", ["incline", "svk_incline"])
+def test_incline_slides_with_g_sin_theta(histories, name):
     # frictionless: the contact force is normal to the plane, so the mean velocity
     # along the slope (cos, sin) is -g sin(theta) t exactly, up to the solver tolerance
-    h = histories["incline"]
+    # (for both materials: the internal forces sum to zero)
+    h = histories[name]
     th = np.radians(10)
     along = h["v1_mean"] * np.cos(th) + h["v2_mean"] * np.sin(th)
     assert np.abs(along + G * np.sin(th) * h["t"]).max() < 1e-6
     assert h["max_penetration"].max() <= 1e-8 and (h["active_nodes"][1:] > 0).any()
 
 
-def test_oblique_impact_conserves_horizontal_momentum(histories):
-    h = histories["oblique"]
+@pytest.mark.parametrize("name", ["oblique", "svk_oblique"])
+def test_oblique_impact_conserves_horizontal_momentum(histories, name):
+    h = histories[name]
     assert (h["active_nodes"] > 0).any()
     assert np.abs(h["v1_mean"] - 0.5).max() < 1e-6
     assert h["max_penetration"].max() <= 1e-8

@@ -1,0 +1,174 @@
+"""St Venant-Kirchhoff (paper Section 3): -material svk, solved by semi-smooth Newton.
+
+Each test states the property it checks and the equation behind it. The runs are
+in conftest.py. With the paper's lambda = mu = 30 the SVK body collapses in
+Test 1 at t = 16.8 (test_test1_collapse_is_one_clear_error), so the Test 1 runs
+here stop before that.
+"""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, SMALL_LOADS, error_lines, run_scene
+from golden import compare
+from history import read_csv
+
+NEWTON_TOL = 1e-10      # -newton_tol default: |R + C'lm| relative to its terms
+
+
+def run_unit(seed):
+    """tests/edp/svk_unit.edp at a random state (a 1 rad rotation plus smooth fields)."""
+    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++", FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    p = subprocess.run(["FreeFem++-nw", "-nw", "-ns", "-v", "0", "tests/edp/svk_unit.edp", "-mesh", "meshes/disk.msh",
+                        "-seed", str(seed)], cwd=ROOT, capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stdout + p.stderr
+    values = {}
+    for line in p.stdout.splitlines():
+        parts = line.split()
+        if parts and parts[0] in ("tangent", "identity", "linear"):
+            values[parts[0]] = float(parts[1])
+    return values
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_tangent_identity_and_linear_limit_at_a_random_state(seed):
+    """The consistent tangent N'(x) against a central difference of the mid-point force N
+    (relative error <= 1e-6); the discrete-gradient identity of Section 3,
+    N(x).(x - u^n) = W(x) - W(u^n), to round-off; and N'(0) = K / 2, the linear form of (1)."""
+    v = run_unit(seed)
+    assert v["tangent"] <= 1e-6, f"tangent against central differences: relative error {v['tangent']:.3g}"
+    assert v["identity"] <= 1e-12, f"energy identity: relative error {v['identity']:.3g}"
+    assert v["linear"] <= 1e-12, f"N'(0) against K/2: relative error {v['linear']:.3g}"
+
+
+def test_spinning_free_flight_conserves_energy_and_momenta(histories, runs):
+    """Simo-Tarnow (the paper's [15]): without contact and with f = 0 (dead load), the SVK
+    mid-point scheme conserves rho/2|v|^2 + int W exactly, and linear and angular momentum.
+    The disk turns 1.5 rad (spin 0.05, T = 30)."""
+    params = dict(line.split(" ", 1) for line in open(os.path.join(runs["svk_spin"], "parameters.txt")).read().splitlines())
+    assert float(params["-spin"]) * float(params["-T"]) >= 1, "the scene must turn the disk at least 1 rad"
+    h = histories["svk_spin"]
+    e, am = h["energy"], h["angular_momentum"]
+    assert np.abs(e - e[0]).max() <= 1e-9 * e[0], f"energy drifts by {np.abs(e - e[0]).max() / e[0]:.3g} (relative)"
+    assert np.abs(am - am[0]).max() <= 1e-9 * abs(am[0]), \
+        f"angular momentum drifts by {np.abs(am - am[0]).max() / abs(am[0]):.3g} (relative)"
+    for c in ("v1_mean", "v2_mean"):
+        assert np.ptp(h[c]) <= 1e-12, f"linear momentum ({c}) changes by {np.ptp(h[c]):.3g}"
+    assert h["max_strain"].max() < 0.01, "the spinning SVK disk strains only by the centrifugal load"
+
+
+def test_spinning_linear_body_grows(histories):
+    """Linear elasticity is not invariant under rotation: a rigid rotation strains it, and the
+    spinning linear disk follows u = t omega x X (an infinitesimal rotation, zero energy), so it
+    grows: its largest Green-Lagrange strain reaches 1 while the SVK disk's stays below 0.01."""
+    lin, svk = histories["linear_spin"], histories["svk_spin"]
+    assert lin["max_strain"][-1] > 1 > 100 * svk["max_strain"].max()
+    assert np.all(np.diff(lin["max_strain"][1:]) > 0), "the linear disk's strain grows monotonically"
+
+
+@pytest.mark.parametrize("name", ["svk_test1", "svk_test1_every_step", "svk_test2_t1_18"])
+def test_free_fall_is_exact_before_impact(histories, name):
+    """A rigid body under a constant load: the mid-point scheme is exact, u2 = 4 - 0.05 t^2, and
+    SVK's internal force vanishes on rigid translations (E = 0)."""
+    h = histories[name]
+    before = h["t"] < h["t"][np.argmax(h["active_nodes"] > 0)]
+    err = np.abs(h["u2_low"][before] - (4 - 0.05 * h["t"][before] ** 2)).max()
+    assert err < 1e-10, f"{name}: free fall differs from 4 - 0.05 t^2 by {err:.3g}"
+
+
+def test_modified_energy_never_increases_on_the_fixed_foundation(histories):
+    """(1) with w = u^n and the identity of Section 3, f constant: the modified energy
+    rho/2|v|^2 + int W - (f, u) cannot increase, up to the Newton tolerance."""
+    for name in ("svk_test1", "svk_test1_every_step", "svk_stiff_test1"):
+        m = histories[name]["modified_energy"]
+        gain = np.diff(m).max()
+        assert gain <= NEWTON_TOL * abs(m[0]), f"{name}: modified energy rises by {gain:.3g} in one step"
+
+
+@pytest.mark.parametrize("name", ["svk_f0_fixed", "svk_f0_falling"])
+def test_energy_never_increases_without_load(histories, name):
+    """Prop. 2 for SVK, f = 0, foundation fixed or decreasing (u^n in K^{n+1}): the energy
+    rho/2|v|^2 + int W does not increase, up to the Newton tolerance; and there is contact."""
+    h = histories[name]
+    e = h["energy"]
+    assert h["active_nodes"].max() > 0, f"{name}: the disk never touches the foundation"
+    gain = np.diff(e).max()
+    assert gain <= NEWTON_TOL * e[0], f"{name}: energy rises by {gain:.3g} in one step"
+
+
+@pytest.mark.parametrize("name", ["svk_test1", "svk_test1_every_step", "svk_test2_t1_18", "svk_f0_fixed", "svk_f0_falling",
+                                  "svk_stiff_test1", "svk_incline", "svk_oblique"])
+def test_contact_conditions(histories, name):
+    """Constraint (10) to round-off (penetration <= 1e-9) and a non-negative contact stress
+    alpha of (6); every value finite."""
+    h = histories[name]
+    assert h["max_penetration"].max() <= 1e-9, f"{name}: penetration {h['max_penetration'].max():.3g}"
+    assert h["contact_pressure_low"].min() >= 0 and h["contact_force_y"].min() >= 0
+    assert np.isfinite(np.column_stack(list(h.values()))).all()
+
+
+def test_skip_free_gives_the_same_history(histories):
+    """-skip_free 1 solves the unconstrained step first when no vertex was in contact; the
+    answer is the same complementarity problem's."""
+    a, b = histories["svk_test1"], histories["svk_test1_every_step"]
+    n = len(b["t"])
+    assert np.abs(a["u2_low"][:n] - b["u2_low"]).max() < 1e-9
+    assert b["qp_solved"][1:].all() and a["qp_solved"][:n].sum() < b["qp_solved"].sum()
+
+
+def test_small_strain_limit(histories):
+    """As the load shrinks by s, SVK tends to linear elasticity: the displacements are O(s)
+    and their difference O(s^2) (the geometric terms of E), so it shrinks 4x per halving
+    of s (observed >= 3.5x), on the disk resting on the foundation under f = -0.1 s."""
+    diffs = []
+    for s in SMALL_LOADS:
+        a, b = histories[f"rest_svk_{s}"], histories[f"rest_linear_{s}"]
+        diffs.append(np.abs(a["u2_probe0"] - b["u2_probe0"]).max())
+    ratios = [diffs[k] / diffs[k + 1] for k in range(len(diffs) - 1)]
+    print("SVK - linear, top of the disk:", dict(zip(SMALL_LOADS, diffs)), "ratios", ratios)
+    assert all(r >= 3.5 for r in ratios), f"differences {diffs}: ratios {ratios}, expected about 4"
+
+
+@pytest.mark.parametrize("name", ["svk_test1", "svk_stiff_test1"])
+def test_history_matches_golden(histories, name):
+    """SVK Test 1 to T = 16.5 (its collapse is at 16.8), and Test 1 with a stiff disk
+    (lambda = mu = 300) to T = 45, against tests/golden/NAME.csv."""
+    failures = compare(os.path.join(ROOT, "tests", "golden", f"{name}.csv"), histories[name])
+    assert not failures, "\n".join(failures)
+
+
+def test_test1_collapse_is_one_clear_error(tmp_path, runs):
+    """With lambda = mu = 30 the SVK body collapses under the impact (SVK's stress peaks under
+    compression): Newton, then its damped retry, fail at step 336 with an inverted triangle.
+    The run stops with exit 4 and one line naming the step, the time and the reason, and
+    history.csv keeps every step before it, identical to the run that stopped at T = 16.5."""
+    out = tmp_path / "collapse"
+    p = run_scene("test1", out, ["-material", "svk", "-T", "17", "-progress", "0", "-vtk", "0"], check=False)
+    errors = error_lines(p)
+    assert p.returncode == 4 and len(errors) == 1, p.stderr
+    assert errors[0].startswith("error: newton failed at step 336, t = 16.8: triangle ") and "inverted (det F = " in errors[0]
+    assert "history.csv keeps every step before it" in errors[0]
+    rows = open(out / "history.csv").read().splitlines()
+    assert len(rows) == 1 + 336 and rows[-1].startswith("335,")
+    before = open(os.path.join(runs["svk_test1"], "history.csv")).read().splitlines()
+    assert rows[:len(before)] == before
+    assert not (out / "summary.txt").exists()
+
+
+def test_restart_reproduces_the_run(tmp_path):
+    """A restart from a checkpoint during contact (t = 9.5: the Newton warm start is the
+    checkpoint's active set and multipliers) gives the same history as the run straight through."""
+    args = ["-material", "svk", "-progress", "0", "-snapshots", "none"]
+    straight, first, restarted = tmp_path / "straight", tmp_path / "first", tmp_path / "restarted"
+    run_scene("test1", straight, args + ["-T", "10.5"])
+    run_scene("test1", first, args + ["-T", "10", "-checkpoint_every", "190"])
+    run_scene("test1", restarted, ["-restart", str(first), "-T", "10.5", "-progress", "0"])
+    a, b = read_csv(straight / "history.csv"), read_csv(restarted / "history.csv")
+    assert a["active_nodes"][190] > 0, "the checkpoint must be during contact"
+    for c in a:
+        assert np.array_equal(a[c], b[c]), f"column {c} differs after the restart"
+    sa = dict(line.split(" ", 1) for line in open(straight / "summary.txt").read().splitlines())
+    sb = dict(line.split(" ", 1) for line in open(restarted / "summary.txt").read().splitlines())
+    assert sa["newton_iterations"] == sb["newton_iterations"] and sa["max_strain"] == sb["max_strain"]
