@@ -16,7 +16,7 @@ EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk
 RUN := edp/run.sh
 MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -97,6 +97,10 @@ accuracy: meshes meshes/disk_refine4.msh | deps-plot
 # ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md
 stress: meshes meshes/disk_refine4.msh | deps-plot
 	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress
+
+# ---- St Venant-Kirchhoff next to the linear body (see postprocess/svk_compare.py); results/svk/summary.md
+svk: meshes | deps-plot
+	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk
 
 # ---- every scene with the first line of its comment
 scenes:
