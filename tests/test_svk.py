@@ -172,3 +172,31 @@ def test_restart_reproduces_the_run(tmp_path):
     sa = dict(line.split(" ", 1) for line in open(straight / "summary.txt").read().splitlines())
     sb = dict(line.split(" ", 1) for line in open(restarted / "summary.txt").read().splitlines())
     assert sa["newton_iterations"] == sb["newton_iterations"] and sa["max_strain"] == sb["max_strain"]
+
+
+def test_a_failed_newton_is_retried_to_the_same_answer(tmp_path, histories):
+    """With -newton_max_iter 2 the first attempt fails on every contact step (Newton needs 3
+    iterations there); the retry from u^n with damped updates and 4x the iterations solves
+    the same problem, so the history is the default run's within the Newton tolerance."""
+    out = tmp_path / "retried"
+    run_scene("test1", out, ["-material", "svk", "-T", "10", "-newton_max_iter", "2", "-progress", "0", "-snapshots", "none"])
+    summary = dict(line.split(" ", 1) for line in open(out / "summary.txt").read().splitlines())
+    assert int(summary["newton_retries"]) > 0
+    a, b = read_csv(out / "history.csv"), histories["svk_test1"]
+    n = len(a["t"])
+    assert np.abs(a["u2_low"] - b["u2_low"][:n]).max() < 1e-9
+    assert np.abs(a["contact_force_y"] - b["contact_force_y"][:n]).max() < 1e-6
+
+
+def test_newton_failure_without_retry_is_one_clear_error(tmp_path):
+    """-newton_retry 0: the first failed step stops the run with exit 4 and one line naming
+    the step, the time and the reason; history.csv keeps every step before it."""
+    out = tmp_path / "failed"
+    p = run_scene("test1", out, ["-material", "svk", "-T", "10", "-newton_max_iter", "2", "-newton_retry", "0",
+                                 "-progress", "0", "-snapshots", "none"], check=False)
+    errors = error_lines(p)
+    assert p.returncode == 4 and len(errors) == 1, p.stderr
+    assert errors[0].startswith("error: newton failed at step 179, t = 8.95: no convergence in 2 Newton iterations")
+    rows = open(out / "history.csv").read().splitlines()
+    assert len(rows) == 1 + 179 and rows[-1].startswith("178,")
+    assert not (out / "summary.txt").exists()
