@@ -1,6 +1,8 @@
 """The cost of every scene at its own T (the numbers of docs/scenes.md): QP steps,
 steps and wall seconds, one run at a time, on the paper's mesh with the default
-solver. Usage: python3 postprocess/scene_costs.py [--out results/scene_costs]"""
+solver; then the same with -material svk (St Venant-Kirchhoff, solved by Newton),
+where a run may stop with exit 4 when the body collapses (an inverted triangle):
+the table says where. Usage: python3 postprocess/scene_costs.py [--out results/scene_costs]"""
 import argparse
 import glob
 import os
@@ -28,6 +30,26 @@ def main():
         wall = time.perf_counter() - t0
         h = read_run(out)
         print(f"| `{scene}` | {int(h['qp_solved'].sum())} / {len(h['t']) - 1} | {wall:.3g} |", flush=True)
+    print("\nWith -material svk:\n| scene | outcome | constrained steps / steps | Newton iterations per step | wall s |\n"
+          "| --- | --- | ---: | ---: | ---: |")
+    for path in sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp"))):
+        scene = os.path.basename(path)[:-4]
+        out = os.path.join(a.out, scene + "_svk")
+        t0 = time.perf_counter()
+        run = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), scene, out, "-progress", "0", "-material", "svk"],
+                             capture_output=True, text=True, env=dict(os.environ, FORCE="1"))
+        wall = time.perf_counter() - t0
+        if run.returncode == 0:
+            outcome = "reaches T"
+        elif run.returncode == 4 and "inverted" in run.stderr:
+            step, t = run.stderr.split("newton failed at step ")[1].split(":")[0].split(", t = ")
+            outcome = f"collapses at step {step}, t = {t} (inverted triangle, exit 4)"
+        else:
+            sys.exit(f"error: {scene} with -material svk failed (exit {run.returncode}): {run.stderr.strip()}")
+        h = read_run(out)
+        steps = len(h["t"]) - 1
+        print(f"| `{scene}` | {outcome} | {int(h['qp_solved'].sum())} / {steps} | "
+              f"{h['newton_iterations'][1:].mean():.2f} | {wall:.3g} |", flush=True)
 
 
 if __name__ == "__main__":
