@@ -6,7 +6,13 @@ ratios asked for:
   - Test 1 with -skip_free 1 (default) against -skip_free 0: same answer, how much faster;
   - -solver activeset against ipopt on Test 1 and Test 2;
   - -factorization cholesky (default) against lu for the free predictor;
-  - the cost per step on three meshes of the same disk, for both solvers.
+  - the cost per step on three meshes of the same disk, for both solvers;
+  - the St Venant-Kirchhoff body (-material svk, semi-smooth Newton + GMRES)
+    beside the linear body's activeset and ipopt runs: Test 1 with the paper's
+    lambda = mu = 30 to T = 16 (SVK collapses at t = 16.8), and the stiff
+    Test 1 (lambda = mu = 300, to --T); Newton iterations per step and GMRES
+    iterations per Newton iteration from the runs' summary.txt, and the aim
+    "SVK Test 1 at most 20x the linear active-set wall time".
 Cases run one at a time, so they do not compete for the 2 cores. A case that
 takes less than 10 s is run --repeat times and its median kept (the spread is
 reported), so the ratios of short runs are not one noisy sample. Writes
@@ -39,10 +45,23 @@ def run_case(out_base, name, scene, args):
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit(f"bench case {name} failed:\n{log}")
     h = read_run(out)
+    summary = read_summary(out)
     steps = len(h["t"]) - 1
     return {"case": name, "scene": scene, "args": " ".join(args), "wall_s": wall,
             "cpu_s": usage.ru_utime + usage.ru_stime, "peak_MiB": usage.ru_maxrss / 1024, "steps": steps, "qp_steps": int(h["qp_solved"].sum()),
-            "ms_per_step": 1000 * wall / steps, "history": h}
+            "ms_per_step": 1000 * wall / steps, "history": h,
+            **{k: int(summary.get(k, 0)) for k in ("newton_iterations", "newton_retries", "gmres_iterations")}}
+
+
+def read_summary(run_dir):
+    """summary.txt as a dict: key -> value (text)."""
+    out = {}
+    with open(os.path.join(run_dir, "summary.txt")) as fh:
+        for line in fh:
+            parts = line.split(None, 1)
+            if len(parts) == 2:
+                out[parts[0]] = parts[1].strip()
+    return out
 
 
 def timed_case(out_base, name, scene, args, repeat):
@@ -73,6 +92,15 @@ def main():
         ("test2 ipopt", "test2", ["-T", a.T, "-t1", "18"]),
         ("test2 activeset", "test2", ["-T", a.T, "-t1", "18", "-solver", "activeset"]),
     ]
+    # SVK beside the linear body, in the same run: Test 1 with the paper's lambda = mu = 30 up to
+    # T = 16 (SVK inverts an element at t = 16.8), and the stiff body to T = --T
+    stiff = ["-lambda", "300", "-mu", "300", "-T", a.T, "-dt", "0.05"]
+    svk_pairs = [("test1 T=16", "Test 1 (lambda = mu = 30), T = 16", ["-T", "16"]),
+                 ("test1 stiff", f"stiff Test 1 (lambda = mu = 300), T = {a.T}", stiff)]
+    for key, _, args in svk_pairs:
+        cases += [(f"{key} ipopt", "test1", args),
+                  (f"{key} activeset", "test1", args + ["-solver", "activeset"]),
+                  (f"{key} svk", "test1", args + ["-material", "svk"])]
     meshes = [("coarse", "meshes/disk_coarse.msh"), ("paper", "meshes/disk.msh"), ("fine", "meshes/disk_fine.msh")]
     for solver in ("ipopt", "activeset"):
         for mesh, path in meshes:
@@ -115,12 +143,39 @@ def main():
         lines.append(f"- mesh scaling, {solver} (ms per step, T = 40): coarse (277) {c['ms_per_step']:.2f}, "
                      f"paper (989) {m['ms_per_step']:.2f} ({m['ms_per_step'] / c['ms_per_step']:.1f}x), "
                      f"fine (3750) {f['ms_per_step']:.2f} ({f['ms_per_step'] / m['ms_per_step']:.1f}x)")
+    lines += ["", "St Venant-Kirchhoff (-material svk, -solver newton) beside the linear body:", "",
+              "| case | Newton it/step | GMRES it/Newton it | Newton retries | ms/Newton it | "
+              "SVK wall / activeset wall | SVK wall / ipopt wall |",
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for key, _, _ in svk_pairs:
+        s = by[f"{key} svk"]
+        lines.append(f"| {key} svk | {s['newton_iterations'] / s['steps']:.2f} | "
+                     f"{s['gmres_iterations'] / s['newton_iterations']:.2f} | {s['newton_retries']} | "
+                     f"{s['wall_s'] * 1000 / s['newton_iterations']:.2f} | {ratio(f'{key} svk', f'{key} activeset'):.1f} | "
+                     f"{ratio(f'{key} svk', f'{key} ipopt'):.2f} |")
+    lines.append("")
+    aim_met = True
+    for key, title, _ in svk_pairs:
+        s, lin, ip = by[f"{key} svk"], by[f"{key} activeset"], by[f"{key} ipopt"]
+        r, worst = ratio(f"{key} svk", f"{key} activeset"), s["wall_max"] / lin["wall_s"]
+        aim_met &= worst <= 20
+        lines.append(f"- SVK, {title}: {s['wall_s']:.2f} s, {r:.1f}x the linear activeset wall time "
+                     f"({lin['wall_s']:.2f} s; slowest SVK run {worst:.1f}x) and "
+                     f"{ratio(f'{key} svk', f'{key} ipopt'):.2f}x ipopt's ({ip['wall_s']:.2f} s); "
+                     f"{s['newton_iterations'] / s['steps']:.2f} Newton iterations per step, "
+                     f"{s['gmres_iterations'] / s['newton_iterations']:.2f} GMRES iterations per Newton iteration; "
+                     f"linear activeset against ipopt: max |u2_low difference| {u2_gap(f'{key} ipopt', f'{key} activeset'):.2g}")
+    worst_all = max(by[f"{k} svk"]["wall_max"] / by[f"{k} activeset"]["wall_s"] for k, _, _ in svk_pairs)
+    lines.append(f"- aim of SVK Test 1 at most 20x the linear active-set wall time: {'met' if aim_met else 'NOT met'} "
+                 f"(" + "; ".join(f"{k} {ratio(f'{k} svk', f'{k} activeset'):.1f}x" for k, _, _ in svk_pairs)
+                 + f"; slowest SVK run {worst_all:.1f}x)")
     text = "\n".join(lines)
     print(text)
     with open(os.path.join(a.out, "bench.md"), "w") as fh:
         fh.write(text + "\n")
     with open(os.path.join(a.out, "bench.csv"), "w") as fh:
-        keys = ["case", "wall_s", "runs", "wall_min", "wall_max", "cpu_s", "peak_MiB", "steps", "qp_steps", "ms_per_step"]
+        keys = ["case", "wall_s", "runs", "wall_min", "wall_max", "cpu_s", "peak_MiB", "steps", "qp_steps", "ms_per_step",
+                "newton_iterations", "newton_retries", "gmres_iterations"]
         fh.write(",".join(keys) + "\n")
         for r in rows:
             fh.write(",".join(str(r[k]) for k in keys) + "\n")
