@@ -13,7 +13,16 @@ run (refine-4 mesh, dt = 0.0125, activeset). For each run, against it:
 and the cost: wall and CPU seconds per run and per step, peak memory.
 Observed orders: in dt on each mesh (against that mesh's dt = 0.0125 run),
 in h at dt = 0.0125 (coarse, paper and fine against the refine-4 mesh).
-Writes results/accuracy/table.csv, table.md, orders.md, work_precision.png/pdf.
+St Venant-Kirchhoff (-material svk, paper Section 3), on the paper's mesh:
+  - the model error, SVK against linear, beside the dt and h errors of the same
+    case: (i) Test 1 with the paper's lambda = mu = 30 on t <= 15 only (the SVK
+    body collapses at t = 16.8), u2 of the top vertex (0, 40), since u2_low is
+    pinned at 0 in contact; (ii) the stiff Test 1 (lambda = mu = 300, no
+    collapse) to T = 40, u2_low (it holds the rebound);
+  - SVK's observed order in dt (self-convergence: dt = 0.1, 0.05, 0.025 against
+    dt = 0.0125) on the spin scene (no contact: the smooth case, error of the
+    lowest point's displacement vector) and on the stiff Test 1 (with an impact).
+Writes results/accuracy/table.csv, table.md, orders.md, svk.md, work_precision.png/pdf.
 """
 import argparse
 import csv
@@ -37,6 +46,9 @@ SOLVERS = {"ipopt 1e-6": ["-solver", "ipopt", "-tol", "1e-6"], "ipopt 1e-8": ["-
            "ipopt 1e-10": ["-solver", "ipopt", "-tol", "1e-10"], "activeset": ["-solver", "activeset"]}
 T = 40.0
 SAMPLE = 0.2           # every dt of the grid divides it
+SVK_WINDOW = 15.0      # Test 1, lambda = mu = 30: compare up to here (SVK collapses at t = 16.8)
+STIFF = ["-lambda", "300", "-mu", "300"]
+SVK_DTS = [0.1, 0.05, 0.025, 0.0125]
 
 
 def sampled(h):
@@ -44,6 +56,92 @@ def sampled(h):
     k = np.rint(h["t"] / SAMPLE)
     on_grid = np.abs(h["t"] - k * SAMPLE) < 1e-9
     return h["u2_low"][on_grid]
+
+
+def sampled_until(h, key, t_end):
+    """h[key] at t = 0.2 k, k = 0..t_end/0.2."""
+    k = np.rint(h["t"] / SAMPLE)
+    on_grid = (np.abs(h["t"] - k * SAMPLE) < 1e-9) & (h["t"] <= t_end + 1e-9)
+    return h[key][on_grid]
+
+
+def diff_until(h, ref, t_end, keys=("u2_low",)):
+    """max over t <= t_end of |(h - ref)[keys]| (Euclidean over keys), and its L2 in time."""
+    d = np.sqrt(sum((sampled_until(h, k, t_end) - sampled_until(ref, k, t_end)) ** 2 for k in keys))
+    return d.max(), np.sqrt(SAMPLE * (d ** 2).sum() / t_end)
+
+
+def svk_study(out, reuse, finest_mesh):
+    """Model error (SVK against linear) and SVK's observed order in dt; returns the lines of svk.md."""
+    paper = MESHES["paper"][0]
+    cases = {}      # key: (scene, T, args)
+    # Test 1 on t <= 15: u2_low is pinned at 0 in contact, so compare the top vertex (0, 40) (probe 0)
+    for dt in (0.05, 0.0125):
+        for model, extra in (("svk", ["-material", "svk"]), ("linear", ["-solver", "activeset"])):
+            cases[f"{model}_test1_T15_top_dt{dt}"] = ("test1", SVK_WINDOW, extra + ["-dt", str(dt), "-probes", "0,40"])
+    cases["linear_test1_T15_top_refine4_dt0.0125"] = ("test1", SVK_WINDOW, ["-solver", "activeset", "-dt", "0.0125",
+                                                                           "-probes", "0,40", "-mesh", MESHES["refine4"][0]])
+    for dt in (0.05, 0.0125):
+        cases[f"linear_stiff_dt{dt}"] = ("test1", T, STIFF + ["-solver", "activeset", "-dt", str(dt)])
+    cases["linear_stiff_refine4_dt0.0125"] = ("test1", T, STIFF + ["-solver", "activeset", "-dt", "0.0125",
+                                                                   "-mesh", MESHES["refine4"][0]])
+    for dt in SVK_DTS:
+        cases[f"svk_stiff_dt{dt}"] = ("test1", T, STIFF + ["-material", "svk", "-dt", str(dt)])
+        cases[f"svk_spin_dt{dt}"] = ("spin", 30.0, ["-material", "svk", "-dt", str(dt)])
+    runs = {}
+    for n, (name, (scene, t_end, args)) in enumerate(cases.items()):
+        d = os.path.join(out, name)
+        if reuse and os.path.exists(os.path.join(d, "summary.txt")):
+            h = read_run(d)
+            if abs(h["t"][-1] - t_end) < 1e-9:
+                runs[name] = {"history": h, "wall_s": float("nan")}
+                continue
+        print(f"accuracy svk [{n + 1}/{len(cases)}]: {name}", flush=True)
+        extra = [] if "-mesh" in args else ["-mesh", paper]
+        runs[name] = run_case(out, name, scene, ["-T", f"{t_end:g}"] + extra + args)
+    H = {k: r["history"] for k, r in runs.items()}
+    top = ("u2_probe0",)
+
+    def row(what, pair, t_end, keys=("u2_low",)):
+        mx, l2 = diff_until(*pair, t_end, keys)
+        return f"| {what} | {mx:.3g} | {l2:.3g} |"
+
+    md = ["## Model error: SVK against linear, beside the discretisation errors (paper's mesh)", "",
+          "| what | max error | L2-in-time error |", "| --- | ---: | ---: |",
+          row(f"Test 1 (lambda = mu = 30), t <= {SVK_WINDOW:g}, u2 of the top (0, 40): model, SVK - linear, dt = 0.0125",
+              (H["svk_test1_T15_top_dt0.0125"], H["linear_test1_T15_top_dt0.0125"]), SVK_WINDOW, top),
+          row(f"Test 1, t <= {SVK_WINDOW:g}, top: model, SVK - linear, dt = 0.05",
+              (H["svk_test1_T15_top_dt0.05"], H["linear_test1_T15_top_dt0.05"]), SVK_WINDOW, top),
+          row(f"Test 1, t <= {SVK_WINDOW:g}, top: dt error, linear dt = 0.05 - dt = 0.0125",
+              (H["linear_test1_T15_top_dt0.05"], H["linear_test1_T15_top_dt0.0125"]), SVK_WINDOW, top),
+          row(f"Test 1, t <= {SVK_WINDOW:g}, top: dt error, SVK dt = 0.05 - dt = 0.0125",
+              (H["svk_test1_T15_top_dt0.05"], H["svk_test1_T15_top_dt0.0125"]), SVK_WINDOW, top),
+          row(f"Test 1, t <= {SVK_WINDOW:g}, top: h error, linear paper mesh - {finest_mesh}, dt = 0.0125",
+              (H["linear_test1_T15_top_dt0.0125"], H["linear_test1_T15_top_refine4_dt0.0125"]), SVK_WINDOW, top),
+          row(f"stiff Test 1 (lambda = mu = 300), t <= {T:g}: model, SVK - linear, dt = 0.0125",
+              (H["svk_stiff_dt0.0125"], H["linear_stiff_dt0.0125"]), T),
+          row(f"stiff Test 1, t <= {T:g}: model, SVK - linear, dt = 0.05",
+              (H["svk_stiff_dt0.05"], H["linear_stiff_dt0.05"]), T),
+          row(f"stiff Test 1, t <= {T:g}: dt error, linear dt = 0.05 - dt = 0.0125",
+              (H["linear_stiff_dt0.05"], H["linear_stiff_dt0.0125"]), T),
+          row(f"stiff Test 1, t <= {T:g}: dt error, SVK dt = 0.05 - dt = 0.0125",
+              (H["svk_stiff_dt0.05"], H["svk_stiff_dt0.0125"]), T),
+          row(f"stiff Test 1, t <= {T:g}: h error, linear paper mesh - {finest_mesh}, dt = 0.0125",
+              (H["linear_stiff_dt0.0125"], H["linear_stiff_refine4_dt0.0125"]), T),
+          "", "## SVK's observed order in dt (self-convergence against dt = 0.0125, paper's mesh)", "",
+          "| case | errors at dt = " + ", ".join(map(str, SVK_DTS[:-1])) + " (max over t) | observed order | "
+          "L2-in-time errors | observed order (L2) |", "| --- | --- | ---: | --- | ---: |"]
+    for label, prefix, t_end, keys in (
+            ("spin (no contact, f = 0), T = 30, |u_low| (both components)", "svk_spin", 30.0, ("u1_low", "u2_low")),
+            ("stiff Test 1 (contact from t = 8.95 to 14.2 and from 31.75), T = 40, u2_low", "svk_stiff", T, ("u2_low",))):
+        ref = H[f"{prefix}_dt{SVK_DTS[-1]}"]
+        errs = [diff_until(H[f"{prefix}_dt{dt}"], ref, t_end, keys) for dt in SVK_DTS[:-1]]
+        mx, l2 = [e[0] for e in errs], [e[1] for e in errs]
+        md.append(f"| {label} | {', '.join(f'{e:.2e}' for e in mx)} | {order(SVK_DTS[:-1], mx):.2f} | "
+                  f"{', '.join(f'{e:.2e}' for e in l2)} | {order(SVK_DTS[:-1], l2):.2f} |")
+    walls = {k: r["wall_s"] for k, r in runs.items() if np.isfinite(r["wall_s"])}     # not of runs --reuse kept
+    md += ["", "Wall seconds of the SVK study's runs made now: " + ", ".join(f"{k} {v:.1f}" for k, v in walls.items())]
+    return md
 
 
 def first_bounce(h):
@@ -153,6 +251,11 @@ def main():
                       f"{', '.join(f'{e:.2e}' for e in errs)} | {order(hs, errs):.2f} |")
     with open(os.path.join(a.out, "orders.md"), "w") as f:
         f.write("\n".join(orders) + "\n")
+    svk_md = []
+    if not a.quick:
+        svk_md = svk_study(a.out, a.reuse, finest_mesh)
+        with open(os.path.join(a.out, "svk.md"), "w") as f:
+            f.write("\n".join(svk_md) + "\n")
 
     # colour = mesh, marker and line = solver; max and L2-in-time error side by side
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharex=True)
@@ -174,6 +277,8 @@ def main():
     print("\n".join(md))
     print()
     print("\n".join(orders))
+    print()
+    print("\n".join(svk_md))
     print(f"written to {a.out}/")
 
 
