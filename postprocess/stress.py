@@ -12,7 +12,7 @@ Criteria for every case:
     both up to the solver tolerance, 1e-8 of the energy's size;
   - a run that exits 0 reaches its horizon T.
 The "svk ..." cases run the St Venant-Kirchhoff body (-material svk, Newton),
-whose energy is rho/2 v'Mv + int W(E(u)) (modified: minus (f,u)); same criteria.
+whose energy is v'Mv / 2 + int W(E(u)) (modified: minus (f,u)); same criteria.
 SVK may collapse under strong compression (an element inverts, or past the
 collapse no step solution exists and Newton does not converge). For an svk case
 the outcome "breaks at t = X: <reason>" is accepted, and reported as such with

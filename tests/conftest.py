@@ -46,6 +46,7 @@ RUNS = {
     "svk_incline": ("incline", ["-material", "svk", "-T", "10"]),
     "svk_oblique": ("oblique", ["-material", "svk", "-T", "15"]),
     "svk_spin": ("spin", ["-material", "svk"]),
+    "svk_spin_rho2": ("spin", ["-material", "svk", "-rho", "2", "-T", "10", "-snapshots", "none"]),
     "linear_spin": ("spin", []),
     # f = 0 (Prop. 2): a fixed and a decreasing foundation
     "svk_f0_fixed": ("test1", ["-material", "svk", "-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "20"]),
