@@ -27,7 +27,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from history import read_run  # noqa: E402
+from history import read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -51,17 +51,6 @@ def run_case(out_base, name, scene, args):
             "cpu_s": usage.ru_utime + usage.ru_stime, "peak_MiB": usage.ru_maxrss / 1024, "steps": steps, "qp_steps": int(h["qp_solved"].sum()),
             "ms_per_step": 1000 * wall / steps, "history": h,
             **{k: int(summary.get(k, 0)) for k in ("newton_iterations", "newton_retries", "gmres_iterations")}}
-
-
-def read_summary(run_dir):
-    """summary.txt as a dict: key -> value (text)."""
-    out = {}
-    with open(os.path.join(run_dir, "summary.txt")) as fh:
-        for line in fh:
-            parts = line.split(None, 1)
-            if len(parts) == 2:
-                out[parts[0]] = parts[1].strip()
-    return out
 
 
 def timed_case(out_base, name, scene, args, repeat):

@@ -19,6 +19,26 @@ def read_run(run_dir):
     return read_csv(os.path.join(run_dir, "history.csv"))
 
 
+def read_keyed(path):
+    """A file of "key value" lines (a run's summary.txt or parameters.txt) as a dict of strings."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            parts = line.split(None, 1)
+            if len(parts) == 2:
+                out[parts[0]] = parts[1].strip()
+    return out
+
+
+def read_summary(run_dir):
+    return read_keyed(os.path.join(run_dir, "summary.txt"))
+
+
+def read_parameters(run_dir):
+    """parameters.txt: "-key" -> value."""
+    return read_keyed(os.path.join(run_dir, "parameters.txt"))
+
+
 def contact_intervals(t, in_contact, min_gap=0.5):
     """Time intervals of contact; gaps shorter than min_gap (chatter) are merged."""
     intervals = []

@@ -33,7 +33,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from history import contact_intervals, read_run  # noqa: E402
+from history import contact_intervals, read_parameters, read_run  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -94,12 +94,6 @@ def svk_break(stderr):
     return int(m.group(1)), float(m.group(2)), m.group(3).split("; the retry")[0]
 
 
-def parameters(out):
-    """The run's parameters.txt as a dict of strings."""
-    with open(os.path.join(out, "parameters.txt")) as f:
-        return dict(line.split(None, 1) for line in f.read().splitlines() if " " in line)
-
-
 def case_args(name, horizon=None):
     """(scene, options) of a case; horizon replaces its -T."""
     scene, args, _, _ = CASES[name]
@@ -131,8 +125,8 @@ def evaluate(name, out, returncode, stderr):
     if broke is not None and not np.array_equal(h["step"], np.arange(broke[0])):
         failures.append(f"history.csv does not hold exactly the steps 0..{broke[0] - 1} before the break")
     if returncode == 0:
-        T = float(parameters(out)["-T"])
-        dt = float(parameters(out)["-dt"])
+        params = read_parameters(out)
+        T, dt = float(params["-T"]), float(params["-dt"])
         if abs(h["t"][-1] - T) > dt / 2:
             failures.append(f"exit 0 but the history stops at t = {h['t'][-1]:g} < T = {T:g}")
     if not np.isfinite(np.column_stack(list(h.values()))).all():

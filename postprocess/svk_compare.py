@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from history import read_csv, read_freefem_mesh, read_run  # noqa: E402
+from history import read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -77,18 +77,6 @@ def run_one(out, case, model):
         res["broke"] = {"step": int(m.group(1)), "t": float(m.group(2)), "message": err}
         return res
     raise Failure(f"{case}/{model} failed (exit {p.returncode}; see {case}/{model}.log): {err[:300]}")
-
-
-def summary_txt(run_dir):
-    path = os.path.join(run_dir, "summary.txt")
-    if not os.path.exists(path):
-        return {}
-    out = {}
-    with open(path) as f:
-        for line in f:
-            k, _, v = line.strip().partition(" ")
-            out[k] = v
-    return out
 
 
 def snapshots(run_dir):
@@ -211,7 +199,7 @@ def plot_uniaxial(out, name, lam=30.0, mu=30.0):
 
 
 def metrics(res, h):
-    s = summary_txt(res["dir"])
+    s = read_summary(res["dir"]) if os.path.exists(os.path.join(res["dir"], "summary.txt")) else {}
     n = h["newton_iterations"][1:]
     m = {"steps": len(h["t"]) - 1, "t_end": h["t"][-1], "max_strain": float(h["max_strain"].max()),
          "newton_mean": float(n.mean()) if len(n) else 0.0, "newton_max": int(n.max()) if len(n) else 0,

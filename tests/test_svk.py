@@ -13,7 +13,7 @@ import pytest
 
 from conftest import ROOT, SMALL_LOADS, error_lines, run_scene
 from golden import compare
-from history import read_csv
+from history import read_csv, read_parameters, read_summary
 
 NEWTON_TOL = 1e-10      # -newton_tol default: |R + C'lm| relative to its terms
 
@@ -47,7 +47,7 @@ def test_spinning_free_flight_conserves_energy_and_momenta(histories, runs):
     """Simo-Tarnow (the paper's [15]): without contact and with f = 0 (dead load), the SVK
     mid-point scheme conserves rho/2|v|^2 + int W exactly, and linear and angular momentum.
     The disk turns 1.5 rad (spin 0.05, T = 30)."""
-    params = dict(line.split(" ", 1) for line in open(os.path.join(runs["svk_spin"], "parameters.txt")).read().splitlines())
+    params = read_parameters(runs["svk_spin"])
     assert float(params["-spin"]) * float(params["-T"]) >= 1, "the scene must turn the disk at least 1 rad"
     h = histories["svk_spin"]
     e, am = h["energy"], h["angular_momentum"]
@@ -176,8 +176,7 @@ def test_restart_reproduces_the_run(tmp_path):
     assert a["active_nodes"][190] > 0, "the checkpoint must be during contact"
     for c in a:
         assert np.array_equal(a[c], b[c]), f"column {c} differs after the restart"
-    sa = dict(line.split(" ", 1) for line in open(straight / "summary.txt").read().splitlines())
-    sb = dict(line.split(" ", 1) for line in open(restarted / "summary.txt").read().splitlines())
+    sa, sb = read_summary(straight), read_summary(restarted)
     for key in ("newton_iterations", "newton_retries", "gmres_iterations", "max_strain", "qp_steps"):
         assert sa[key] == sb[key], f"summary.txt {key}: {sa[key]} straight through, {sb[key]} after the restart"
 
@@ -188,7 +187,7 @@ def test_a_failed_newton_is_retried_to_the_same_answer(tmp_path, histories):
     the same problem, so the history is the default run's within the Newton tolerance."""
     out = tmp_path / "retried"
     run_scene("test1", out, ["-material", "svk", "-T", "10", "-newton_max_iter", "2", "-progress", "0", "-snapshots", "none"])
-    summary = dict(line.split(" ", 1) for line in open(out / "summary.txt").read().splitlines())
+    summary = read_summary(out)
     assert int(summary["newton_retries"]) > 0
     a, b = read_csv(out / "history.csv"), histories["svk_test1"]
     n = len(a["t"])
