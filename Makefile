@@ -14,9 +14,10 @@ T1_VALUES := 18 22 26
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh)
 RUN := edp/run.sh
-MESHES := meshes/disk.msh meshes/disk_coarse.msh meshes/disk_fine.msh
+# every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
+MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk csm3 scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -54,19 +55,33 @@ deps-test: deps-plot
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
 deps: deps-test
 
-# ---- meshes: the paper's disk (refine 1) and a coarser and a finer one
+# ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine);
+# NAME_coarse, NAME_fine, NAME_refine4, NAME_refine8: refine 0.5, 2, 4, 8 (the paper's disk,
+# refine 1, has 989 vertices; refine 8 about 57,000)
 meshes: $(MESHES)
-meshes/disk.msh: REFINE = 1
-meshes/disk_coarse.msh: REFINE = 0.5
-meshes/disk_fine.msh: REFINE = 2
-meshes/disk_refine4.msh: REFINE = 4
-meshes/%.msh: meshes/disk.geo | deps-run
-	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 || { cat $@.log; exit 1; }
+REFINE = 1
+meshes/%_coarse.msh: REFINE = 0.5
+meshes/%_fine.msh: REFINE = 2
+meshes/%_refine4.msh: REFINE = 4
+meshes/%_refine8.msh: REFINE = 8
+define build_mesh
+	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 || { cat $@.log; rm -f $@; exit 1; }
 	@rm -f $@.log
 	@$(PYTHON) postprocess/mesh_counts.py $@
+endef
+meshes/%.msh: meshes/%.geo | deps-run
+	$(build_mesh)
+meshes/%_coarse.msh: meshes/%.geo | deps-run
+	$(build_mesh)
+meshes/%_fine.msh: meshes/%.geo | deps-run
+	$(build_mesh)
+meshes/%_refine4.msh: meshes/%.geo | deps-run
+	$(build_mesh)
+meshes/%_refine8.msh: meshes/%.geo | deps-run
+	$(build_mesh)
 
 # ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
-run: meshes/disk.msh | deps-run
+run: meshes | deps-run
 	$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
 
 # ---- the paper's tests (results are rebuilt when the code or scene changes).
@@ -87,7 +102,7 @@ check: meshes | deps-test
 	$(PYTHON) -m pytest -q tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
-bench: meshes | deps-plot
+bench: meshes meshes/disk_refine8.msh | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
@@ -101,6 +116,11 @@ stress: meshes meshes/disk_refine4.msh | deps-plot
 # ---- St Venant-Kirchhoff next to the linear body (see postprocess/svk_compare.py); results/svk/summary.md
 svk: meshes | deps-plot
 	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk
+
+# ---- the Turek-Hron CSM3 benchmark against its published values, with its convergence in
+# mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md
+csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
+	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3
 
 # ---- every scene with the first line of its comment
 scenes:

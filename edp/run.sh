@@ -106,6 +106,19 @@ rm -rf "$stage"
 if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
   cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 fi
+# The finite elements are fixed when FreeFEM compiles the driver, so the order is read
+# here, as the driver will read it: the scene's line `order = N;`, the restarted run's
+# parameters.txt, then -order on the command line. contact.edp checks that it agrees.
+order=1
+scene_order=$(sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' "$scene_file" | tail -n 1)
+[ -n "$scene_order" ] && order=$scene_order
+[ -n "$restart_dir" ] && order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
+for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do [ "${args[i]}" = "-order" ] && order=${args[i + 1]}; done
+fe=P1
+[ "$order" = 2 ] && fe=P2
+[[ "$order" =~ ^[0-9]{1,9}$ ]] || order=0      # (not an integer: the driver refuses -order itself)
+printf '// written by edp/run.sh: the order the driver is compiled for\nint compiledOrder = %s;\nfunc Pk = %s;\n' \
+  "$order" "$fe" > "$stage/order.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
 cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
 # no banner
@@ -134,7 +147,7 @@ raw=/dev/null
     -v scene="$scene_file" -v errfile="$errfile" '
   function newline() { if (pending) { printf "\n"; pending = 0 } }
   /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
-  /^(note: |mesh |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
+  /^(note: |mesh |reference point: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
   /^progress / { sub(/^progress /, "")
                  if (tty) { printf "\r%s   ", $0; pending = 1 }
                  else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)

@@ -2,7 +2,7 @@
 steps and wall seconds, one run at a time, on the paper's mesh with the default
 solver; then the same with -material svk (St Venant-Kirchhoff, solved by Newton),
 where a run may stop with exit 4 when the body collapses (an inverted triangle):
-the table says where. Usage: python3 postprocess/scene_costs.py [--out results/scene_costs]"""
+the table says where. Usage: python3 postprocess/scene_costs.py [--out results/scene_costs] [--scenes a,b]"""
 import argparse
 import glob
 import os
@@ -19,9 +19,13 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def main():
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "scene_costs"))
+    p.add_argument("--scenes", default="", help="comma-separated scene names (default: every scene)")
     a = p.parse_args()
+    paths = sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp")))
+    if a.scenes:
+        paths = [os.path.join(ROOT, "edp", "scenes", name + ".idp") for name in a.scenes.split(",")]
     print("| scene | QP steps / steps | wall s |\n| --- | ---: | ---: |")
-    for path in sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp"))):
+    for path in paths:
         scene = os.path.basename(path)[:-4]
         out = os.path.join(a.out, scene)
         t0 = time.perf_counter()
@@ -32,7 +36,7 @@ def main():
         print(f"| `{scene}` | {int(h['qp_solved'].sum())} / {len(h['t']) - 1} | {wall:.3g} |", flush=True)
     print("\nWith -material svk:\n| scene | outcome | constrained steps / steps | Newton iterations per step | wall s |\n"
           "| --- | --- | ---: | ---: | ---: |")
-    for path in sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp"))):
+    for path in paths:
         scene = os.path.basename(path)[:-4]
         out = os.path.join(a.out, scene + "_svk")
         t0 = time.perf_counter()

@@ -53,6 +53,26 @@ RUNS = {
     "svk_f0_falling": ("test2", ["-material", "svk", "-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-t0", "2", "-t1", "8",
                                  "-T", "20"]),
 }
+# any body, any mesh (issue 11): Gamma_D, the new scenes, P2, CSM3 (tests/test_geometry.py)
+COARSE = os.path.join(ROOT, "meshes", "disk_coarse.msh")
+RUNS.update({
+    "cantilever_activeset": ("cantilever", ["-T", "10", "-solver", "activeset", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
+    "cantilever_ipopt": ("cantilever", ["-T", "10", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
+    "cantilever_svk": ("cantilever", ["-T", "10", "-material", "svk", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
+    "cantilever_p2": ("cantilever", ["-T", "10", "-order", "2", "-solver", "activeset", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
+    "ring": ("ring", ["-solver", "activeset"]),
+    "ring_svk": ("ring", ["-material", "svk"]),
+    "corner": ("corner", ["-solver", "activeset"]),
+    "corner_svk": ("corner", ["-material", "svk"]),
+    "p2_test1": ("test1", ["-order", "2", "-solver", "activeset", "-T", "20", "-probes", "0,40"]),
+    "p1_test1_probe": ("test1", ["-solver", "activeset", "-T", "20", "-probes", "0,40"]),
+    "p1_fine_test1_probe": ("test1", ["-solver", "activeset", "-T", "20", "-probes", "0,40", "-snapshots", "none",
+                                      "-mesh", os.path.join(ROOT, "meshes", "disk_fine.msh")]),
+    "p2_coarse_activeset": ("test1", ["-order", "2", "-solver", "activeset", "-T", "14", "-mesh", COARSE]),
+    "p2_coarse_ipopt": ("test1", ["-order", "2", "-T", "14", "-mesh", COARSE]),
+    "p2_coarse_svk": ("test1", ["-order", "2", "-material", "svk", "-T", "14", "-mesh", COARSE]),
+    "csm3_short": ("csm3", ["-T", "0.5"]),
+})
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)
 for _s in SMALL_LOADS:

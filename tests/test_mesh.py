@@ -13,16 +13,16 @@ PAPER_MESH = os.path.join(ROOT, "meshes", "disk.msh")
 
 
 def test_paper_mesh_counts():
-    v, t, c, n = msh22_counts(PAPER_MESH)
+    v, t, c, n, d = msh22_counts(PAPER_MESH)
     print(f"meshes/disk.msh: {v} vertices, {t} triangles (paper: 989, 1864)")
     assert abs(v - 989) <= 0.01 * 989 and abs(t - 1864) <= 0.01 * 1864
-    assert (c, n) == (48, 64)
+    assert (c, n, d) == (48, 64, 0)
 
 
 def test_refined_meshes_keep_the_geometry():
     coarse = msh22_counts(os.path.join(ROOT, "meshes", "disk_coarse.msh"))
     fine = msh22_counts(os.path.join(ROOT, "meshes", "disk_fine.msh"))
-    assert coarse[2:] == (24, 32) and fine[2:] == (96, 128)
+    assert coarse[2:] == (24, 32, 0) and fine[2:] == (96, 128, 0)
     assert coarse[0] < 989 < fine[0]
 
 
@@ -117,5 +117,6 @@ def test_mesh_without_contact_label(tmp_path, earlier_run):
     msh = tmp_path / "square.msh"
     subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh)])
-    assert p.returncode == 3 and p.stderr.strip() == f"error: -mesh {msh} has no boundary label 1 (Gamma_C)"
+    assert p.returncode == 3 and p.stderr.strip() == (f"error: -mesh {msh} has no boundary edge with label 1 (Gamma_C, "
+                                                      "-contact_label), and -foundation flat needs one; its labels are 2")
     assert not changed

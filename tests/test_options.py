@@ -150,7 +150,7 @@ def test_scene_that_fails_when_evaluated_is_one_line(tmp_path, earlier_run):
     p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 1 and len(errors) == 1 and "Out of bound" in errors[0] and "if the scene is your own" in errors[0]
-    assert all(line.startswith(("mesh ", "note: ")) for line in p.stdout.splitlines()), p.stdout
+    assert all(line.startswith(("mesh ", "reference point: ", "note: ")) for line in p.stdout.splitlines()), p.stdout
     assert not changed
 
 
