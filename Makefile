@@ -106,7 +106,7 @@ bench: meshes meshes/disk_refine8.msh | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
-accuracy: meshes meshes/disk_refine4.msh | deps-plot
+accuracy: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
 	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
 
 # ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md
