@@ -94,6 +94,17 @@ def main():
     for solver in ("ipopt", "activeset"):
         for mesh, path in meshes:
             cases.append((f"test1 {solver} {mesh} mesh T=40", "test1", ["-T", "40", "-mesh", path, "-solver", solver]))
+    # P2 (-order 2) on the paper's mesh beside P1; the new bodies; CSM3
+    cases += [("test1 activeset P2", "test1", ["-T", a.T, "-solver", "activeset", "-order", "2"]),
+              ("test1 T=16 svk P2", "test1", ["-T", "16", "-material", "svk", "-order", "2"]),
+              ("cantilever activeset", "cantilever", ["-solver", "activeset"]),
+              ("cantilever svk", "cantilever", ["-material", "svk"]),
+              ("csm3", "csm3", [])]
+    # set-up against the cost per step: one step, and T = 20, on meshes up to refine 8 (about 57,000 vertices)
+    big = [("paper", "meshes/disk.msh"), ("refine4", "meshes/disk_refine4.msh"), ("refine8", "meshes/disk_refine8.msh")]
+    for mesh, path in big:
+        for horizon in ("0.05", "20"):
+            cases.append((f"test1 activeset {mesh} T={horizon}", "test1", ["-T", horizon, "-mesh", path, "-solver", "activeset"]))
     rows = []
     for name, scene, args in cases:
         print(f"bench: {name} ...", flush=True)
@@ -158,6 +169,26 @@ def main():
     lines.append(f"- aim of SVK Test 1 at most 20x the linear active-set wall time: {'met' if aim_met else 'NOT met'} "
                  f"(" + "; ".join(f"{k} {ratio(f'{k} svk', f'{k} activeset'):.1f}x" for k, _, _ in svk_pairs)
                  + f"; slowest SVK run {worst_all:.1f}x)")
+    p1, p2 = by["test1 activeset"], by["test1 activeset P2"]
+    s1, s2 = by["test1 T=16 svk"], by["test1 T=16 svk P2"]
+    ca, cs, c3 = by["cantilever activeset"], by["cantilever svk"], by["csm3"]
+    lines += ["", "Beyond the disk and P1:", "",
+              f"- P2 on the paper's mesh, Test 1 activeset (T = {a.T}): {p2['wall_s']:.2f} s, {p2['ms_per_step']:.2f} ms/step, "
+              f"{ratio('test1 activeset P2', 'test1 activeset'):.1f}x P1's ({p1['wall_s']:.2f} s); SVK Test 1 (T = 16): "
+              f"{s2['wall_s']:.2f} s, {ratio('test1 T=16 svk P2', 'test1 T=16 svk'):.1f}x P1's ({s1['wall_s']:.2f} s), "
+              f"{s2['newton_iterations'] / s2['steps']:.2f} Newton it/step, {s2['gmres_iterations'] / s2['newton_iterations']:.1f} GMRES it/Newton it",
+              f"- cantilever (T = 30): activeset {ca['wall_s']:.2f} s ({ca['ms_per_step']:.2f} ms/step), svk {cs['wall_s']:.2f} s "
+              f"({cs['ms_per_step']:.2f} ms/step, {ratio('cantilever svk', 'cantilever activeset'):.1f}x), "
+              f"{cs['newton_iterations'] / cs['steps']:.2f} Newton it/step",
+              f"- csm3 (T = 5, P2, SVK): {c3['wall_s']:.1f} s wall, {c3['cpu_s']:.1f} s CPU, {c3['ms_per_step']:.1f} ms/step, "
+              f"{c3['newton_iterations'] / c3['steps']:.2f} Newton it/step, {c3['gmres_iterations'] / c3['newton_iterations']:.1f} GMRES it/Newton it",
+              "", "| mesh (Test 1 activeset) | vertices | one step: wall s (set-up) | T = 20: wall s | ms per step after the first |",
+              "| --- | ---: | ---: | ---: | ---: |"]
+    for mesh, _ in big:
+        one, run = by[f"test1 activeset {mesh} T=0.05"], by[f"test1 activeset {mesh} T=20"]
+        per_step = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+        lines.append(f"| {mesh} | {read_summary(os.path.join(a.out, f'test1_activeset_{mesh}_T20'))['vertices']} | "
+                     f"{one['wall_s']:.2f} | {run['wall_s']:.2f} | {per_step:.2f} |")
     text = "\n".join(lines)
     print(text)
     with open(os.path.join(a.out, "bench.md"), "w") as fh:
