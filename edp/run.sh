@@ -114,9 +114,10 @@ scene_order=$(sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*
 [ -n "$scene_order" ] && order=$scene_order
 [ -n "$restart_dir" ] && order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
 for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do [ "${args[i]}" = "-order" ] && order=${args[i + 1]}; done
+# as an integer (02 is 2); not one: 0, and the driver refuses -order itself
+if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 fe=P1
 [ "$order" = 2 ] && fe=P2
-[[ "$order" =~ ^[0-9]{1,9}$ ]] || order=0      # (not an integer: the driver refuses -order itself)
 printf '// written by edp/run.sh: the order the driver is compiled for\nint compiledOrder = %s;\nfunc Pk = %s;\n' \
   "$order" "$fe" > "$stage/order.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.

@@ -72,6 +72,9 @@ RUNS.update({
     "p2_coarse_ipopt": ("test1", ["-order", "2", "-T", "14", "-mesh", COARSE]),
     "p2_coarse_svk": ("test1", ["-order", "2", "-material", "svk", "-T", "14", "-mesh", COARSE]),
     "csm3_short": ("csm3", ["-T", "0.5"]),
+    "csm3_short_initial": ("csm3", ["-T", "0.5", "-newton_precond", "initial"]),
+    "cantilever_svk_step": ("cantilever", ["-T", "10", "-material", "svk", "-probes", "0,1.5,10,1.5", "-snapshots", "5",
+                                           "-newton_precond", "step"]),
 })
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)

@@ -30,6 +30,7 @@ BAD = [
     (["-solver", "newton"], "-solver must be ipopt or activeset for -material linear"),
     (["-material", "svk", "-newton_tol", "0"], "-newton_tol must be in (0, 1)"),
     (["-material", "svk", "-newton_max_iter", "0"], "-newton_max_iter must be an integer in [1, 10000]"),
+    (["-material", "svk", "-newton_precond", "lu"], "-newton_precond must be initial or step; got 'lu'"),
     (["-probes", "0,40,17"], "-probes must be x,y pairs"),
     (["-foundation", "user"], "-foundation user needs the scene to define"),
     (["-mesh", "meshes/no-such-file.msh"], "-mesh meshes/no-such-file.msh: file missing or unreadable"),
