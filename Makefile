@@ -102,7 +102,7 @@ check: meshes | deps-test
 	$(PYTHON) -m pytest -q tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
-bench: meshes meshes/disk_refine8.msh | deps-plot
+bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)

@@ -99,7 +99,8 @@ def main():
               ("test1 T=16 svk P2", "test1", ["-T", "16", "-material", "svk", "-order", "2"]),
               ("cantilever activeset", "cantilever", ["-solver", "activeset"]),
               ("cantilever svk", "cantilever", ["-material", "svk"]),
-              ("csm3", "csm3", [])]
+              ("csm3", "csm3", []),
+              ("csm3 newton_precond initial", "csm3", ["-newton_precond", "initial"])]
     # set-up against the cost per step: one step, and T = 20, on meshes up to refine 8 (about 57,000 vertices)
     big = [("paper", "meshes/disk.msh"), ("refine4", "meshes/disk_refine4.msh"), ("refine8", "meshes/disk_refine8.msh")]
     for mesh, path in big:
@@ -171,7 +172,7 @@ def main():
                  + f"; slowest SVK run {worst_all:.1f}x)")
     p1, p2 = by["test1 activeset"], by["test1 activeset P2"]
     s1, s2 = by["test1 T=16 svk"], by["test1 T=16 svk P2"]
-    ca, cs, c3 = by["cantilever activeset"], by["cantilever svk"], by["csm3"]
+    ca, cs, c3, c3a = by["cantilever activeset"], by["cantilever svk"], by["csm3"], by["csm3 newton_precond initial"]
     lines += ["", "Beyond the disk and P1:", "",
               f"- P2 on the paper's mesh, Test 1 activeset (T = {a.T}): {p2['wall_s']:.2f} s, {p2['ms_per_step']:.2f} ms/step, "
               f"{ratio('test1 activeset P2', 'test1 activeset'):.1f}x P1's ({p1['wall_s']:.2f} s); SVK Test 1 (T = 16): "
@@ -181,7 +182,10 @@ def main():
               f"({cs['ms_per_step']:.2f} ms/step, {ratio('cantilever svk', 'cantilever activeset'):.1f}x), "
               f"{cs['newton_iterations'] / cs['steps']:.2f} Newton it/step",
               f"- csm3 (T = 5, P2, SVK): {c3['wall_s']:.1f} s wall, {c3['cpu_s']:.1f} s CPU, {c3['ms_per_step']:.1f} ms/step, "
-              f"{c3['newton_iterations'] / c3['steps']:.2f} Newton it/step, {c3['gmres_iterations'] / c3['newton_iterations']:.1f} GMRES it/Newton it",
+              f"{c3['newton_iterations'] / c3['steps']:.2f} Newton it/step, {c3['gmres_iterations'] / c3['newton_iterations']:.1f} GMRES it/Newton it "
+              f"(-newton_precond step, the scene's); with -newton_precond initial {c3a['wall_s']:.1f} s wall "
+              f"({ratio('csm3 newton_precond initial', 'csm3'):.2f}x), {c3a['gmres_iterations'] / c3a['newton_iterations']:.1f} GMRES it/Newton it; "
+              f"max |u2_probe0 difference| {np.abs(c3['history']['u2_probe0'] - c3a['history']['u2_probe0']).max():.2g}",
               "", "| mesh (Test 1 activeset) | vertices | one step: wall s (set-up) | T = 20: wall s | ms per step after the first |",
               "| --- | ---: | ---: | ---: | ---: |"]
     for mesh, _ in big:
