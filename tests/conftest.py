@@ -76,6 +76,28 @@ RUNS.update({
     "cantilever_svk_step": ("cantilever", ["-T", "10", "-material", "svk", "-probes", "0,1.5,10,1.5", "-snapshots", "5",
                                            "-newton_precond", "step"]),
 })
+# the methods of issue 17 (tests/test_methods.py): mass, contact enforcement
+REST = ["-u0y", "0", "-T", "10", "-probes", "0,40"]           # the disk resting on the foundation under gravity
+F0_IMPACT = ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "40"]   # f = 0: one impact and the rebound
+PENALTY_EPS = ("1e-2", "1e-3", "1e-4")
+RUNS.update({
+    "rest_constraint": ("test1", ["-solver", "activeset"] + REST),
+    **{f"rest_penalty_{e}": ("test1", ["-contact", "penalty", "-penalty_eps", e] + REST) for e in PENALTY_EPS},
+    "methods_singular": ("test1", ["-mass", "singular", "-solver", "activeset", "-T", "30"]),
+    "methods_singular_ipopt": ("test1", ["-mass", "singular", "-T", "30", "-tol", "1e-10"]),
+    "methods_lumped": ("test1", ["-mass", "lumped", "-solver", "activeset", "-T", "30"]),
+    "methods_lumped_ipopt": ("test1", ["-mass", "lumped", "-T", "30", "-tol", "1e-10"]),
+    "methods_penalty": ("test1", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"]),
+    "methods_penalty_test2": ("test2", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"]),
+    **{f"f0_{m}": ("test1", ["-mass", m, "-solver", "activeset"] + F0_IMPACT) for m in ("consistent", "singular", "lumped")},
+    "f0_penalty": ("test1", ["-contact", "penalty"] + F0_IMPACT),
+    **{f"freeflight_{m}": ("freeflight", ["-mass", m]) for m in ("lumped", "singular")},
+    "penalty_p2": ("test1", ["-order", "2", "-contact", "penalty", "-T", "14", "-mesh", COARSE]),
+    "cantilever_penalty": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4", "-probes", "0,1.5,10,1.5",
+                                          "-snapshots", "5"]),
+    "cantilever_lumped": ("cantilever", ["-T", "10", "-mass", "lumped", "-solver", "activeset", "-probes", "0,1.5,10,1.5",
+                                         "-snapshots", "5"]),
+})
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)
 for _s in SMALL_LOADS:
