@@ -95,6 +95,17 @@ RUNS.update({
     "penalty_p2": ("test1", ["-order", "2", "-contact", "penalty", "-T", "14", "-mesh", COARSE]),
     "cantilever_penalty": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4", "-probes", "0,1.5,10,1.5",
                                           "-snapshots", "5"]),
+    # schemes: Newmark (classical gamma = 1/2, and damped), explicit Verlet with penalty
+    "newmark_classical": ("test1", ["-scheme", "newmark", "-solver", "activeset", "-T", "30"]),
+    "newmark_damped": ("test1", ["-scheme", "newmark", "-newmark_gamma", "0.6", "-newmark_beta", "0.3025", "-solver", "activeset",
+                                 "-T", "30"]),
+    "newmark_damped_test2": ("test2", ["-scheme", "newmark", "-newmark_gamma", "0.6", "-newmark_beta", "0.3025",
+                                       "-contact", "penalty", "-T", "30"]),
+    "newmark_freeflight": ("freeflight", ["-scheme", "newmark"]),
+    "verlet_penalty": ("test1", ["-scheme", "verlet", "-contact", "penalty", "-dt", "0.01", "-T", "30"]),
+    "verlet_freeflight": ("freeflight", ["-scheme", "verlet", "-dt", "0.04"]),
+    "verlet_p2": ("test1", ["-scheme", "verlet", "-contact", "penalty", "-order", "2", "-dt", "0.005", "-T", "12",
+                                   "-mesh", COARSE]),
     "cantilever_lumped": ("cantilever", ["-T", "10", "-mass", "lumped", "-solver", "activeset", "-probes", "0,1.5,10,1.5",
                                          "-snapshots", "5"]),
 })

@@ -1,5 +1,6 @@
 """The methods beside the paper's (issue 17; docs/methods.md): the lumped and singular mass
-matrices, and penalty contact. Each test names the property and the equation behind it."""
+matrices, penalty contact, the Newmark and explicit Verlet schemes. Each test names the
+property and the equation behind it."""
 import os
 
 import numpy as np
@@ -7,6 +8,7 @@ import pytest
 
 from conftest import PENALTY_EPS, ROOT, refused_into_copy, run_scene
 from golden import compare
+from history import contact_intervals, read_csv
 
 
 def penetration(h):
@@ -118,7 +120,7 @@ def test_lumped_mass_with_a_clamped_body(histories):
 
 # ---- golden histories of the new methods, and restarts
 
-@pytest.mark.parametrize("name", ["methods_singular", "methods_lumped", "methods_penalty"])
+@pytest.mark.parametrize("name", ["methods_singular", "methods_lumped", "methods_penalty", "newmark_damped", "verlet_penalty"])
 def test_method_history_matches_golden(histories, name):
     failures = compare(os.path.join(ROOT, "tests", "golden", f"{name}.csv"), histories[name])
     assert not failures, "\n".join(failures)
@@ -139,3 +141,87 @@ def test_singular_mass_refused_when_it_cannot_stay_positive_definite(tmp_path, e
     lines = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(lines) == 1 and "beyond the 1/4 that keeps it positive definite" in lines[0], p.stderr
     assert not changed
+
+
+# ---- schemes: Newmark (scheme_newmark.idp), explicit Verlet (scheme_verlet.idp)
+
+@pytest.mark.parametrize("name", ["newmark_freeflight", "verlet_freeflight"])
+def test_free_flight_momentum_and_energy_for_every_scheme(histories, name):
+    """Without contact the momentum changes only by f t (every scheme here is exact for a constant
+    acceleration), and a rigid motion's energy is kept."""
+    h = histories[name]
+    assert np.abs(h["v1_mean"] - h["v1_mean"][0]).max() < 1e-12
+    assert np.abs(h["v2_mean"] - (h["v2_mean"][0] - 0.1 * h["t"])).max() < 1e-11
+    m = h["modified_energy"]
+    assert np.abs(m - m[0]).max() < 1e-11 * abs(m[0])
+
+
+def test_newmark_trapezoidal_is_the_midpoint_scheme_without_contact(histories):
+    """beta = 1/4, gamma = 1/2 is the trapezoidal rule, which for a linear body is the mid-point
+    scheme (1)-(2) as long as no contact force enters the acceleration."""
+    a, b = histories["newmark_freeflight"], histories["freeflight"]
+    assert np.abs(a["u2_low"] - b["u2_low"]).max() < 1e-10 and np.abs(a["v2_low"] - b["v2_low"]).max() < 1e-10
+
+
+def test_classical_newmark_gains_energy_in_persistent_contact_and_says_so(histories, run_status):
+    """The finding of docs/methods.md: with the contact force in the acceleration and gamma = 1/2,
+    the constrained equations (an index-3 differential-algebraic system) are integrated without
+    damping, and the energy grows during the first impact (Krause-Walloth [8]); gamma > 1/2 damps it.
+    The run ends with a warning line, not silently."""
+    h = histories["newmark_classical"]
+    assert h["modified_energy"].max() > 10 * h["modified_energy"][0]
+    assert "warning: the modified energy grew from 502.362" in run_status["newmark_classical"][1]
+    assert "gamma > 1/2 damps it" in run_status["newmark_classical"][1]
+    # gamma = 0.6: bounded, and lower at the end; not monotone (its damping is of the high
+    # frequencies, in another norm than this energy): at most 0.03% above the start (measured)
+    d = histories["newmark_damped"]["modified_energy"]
+    assert d.max() <= d[0] * (1 + 1e-3) and d[-1] < d[0] * 0.99
+    assert "warning" not in run_status["newmark_damped"][1]
+
+
+def test_newmark_keeps_the_constraint_exactly(histories):
+    for name in ("newmark_classical", "newmark_damped"):
+        assert penetration(histories[name]) < 1e-9
+
+
+def test_verlet_penalty_agrees_with_the_getfem_reference(histories):
+    """The GetFEM reference is explicit Verlet with Nitsche contact (theta = 1, gamma0 = 1000) at
+    dt = 0.01 ([3]); explicit Verlet with penalty (eps = 1e-3) is the nearest method here: same
+    first contact to 0.15, u2_low to 0.25, the energy within 1.5% of its start."""
+    h = histories["verlet_penalty"]
+    ref = read_csv(os.path.join(ROOT, "tests", "reference", "getfem-verlet-nitsche-test1.csv"))
+    start, end = contact_intervals(h["t"], h["active_nodes"] > 0)[0]
+    assert abs(start - 8.95) <= 0.15 and abs(end - 23.83) <= 0.15, (start, end)
+    s = ref["t"] <= h["t"][-1]
+    assert np.abs(np.interp(ref["t"][s], h["t"], h["u2_low"]) - ref["u2_low"][s]).max() < 0.25
+    m = h["modified_energy"]
+    assert np.abs(m - m[0]).max() < 0.015 * m[0]
+
+
+def test_verlet_refuses_a_step_above_its_critical_step(tmp_path, earlier_run):
+    """The explicit scheme is stable only for dt below 2 / sqrt(lambda_max(M^-1 (K + C' kappa C))):
+    the paper's dt = 0.05 is above it on the paper's disk with eps = 1e-3 (about 0.0207), so the
+    run is refused with one line that names the limit, and nothing changes."""
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-scheme", "verlet", "-contact", "penalty", "-T", "1",
+                                                                    "-progress", "0"])
+    lines = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(lines) == 1, p.stderr
+    assert "-dt 0.05 is above the critical step 0.0206" in lines[0] and "-allow_above_critical 1" in lines[0]
+    assert not changed
+
+
+def test_verlet_just_below_the_critical_step_is_stable_and_above_it_stops(tmp_path, histories):
+    """Free flight at 94% of the critical step (0.0426 without contact) keeps its energy
+    (verlet_freeflight); at 106%, asked for on purpose, the run blows up and stops with exit 4
+    and one line at the first non-finite step, never exit 0."""
+    p = run_scene("freeflight", tmp_path / "above", ["-scheme", "verlet", "-dt", "0.045", "-allow_above_critical", "1",
+                                                      "-T", "30.06", "-progress", "0", "-snapshots", "none"], check=False)
+    assert "note: -scheme verlet: critical step 0.0426" not in p.stdout
+    assert "above the critical step 0.0426" in p.stderr
+    errors = [line for line in p.stderr.splitlines() if line.startswith("error:")]
+    assert p.returncode == 4 and len(errors) == 1 and "gave a non-finite solution" in errors[0], p.stderr
+
+
+def test_verlet_runs_at_p2(histories):
+    h = histories["verlet_p2"]
+    assert np.isfinite(h["u2_low"]).all() and h["active_nodes"].max() > 0
