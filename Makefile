@@ -17,7 +17,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk csm3 scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk csm3 methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -116,6 +116,11 @@ stress: meshes meshes/disk_refine4.msh | deps-plot
 # ---- St Venant-Kirchhoff next to the linear body (see postprocess/svk_compare.py); results/svk/summary.md
 svk: meshes | deps-plot
 	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk
+
+# ---- the methods of the paper's references beside its own: penalty, Nitsche, singular and lumped mass,
+# Newmark, explicit Verlet (see postprocess/methods.py); results/methods/summary.md
+methods: meshes | deps-plot
+	$(PYTHON) postprocess/methods.py --out $(RESULTS)/methods
 
 # ---- the Turek-Hron CSM3 benchmark against its published values, with its convergence in
 # mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md

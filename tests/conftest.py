@@ -80,6 +80,7 @@ RUNS.update({
 REST = ["-u0y", "0", "-T", "10", "-probes", "0,40"]           # the disk resting on the foundation under gravity
 F0_IMPACT = ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "40"]   # f = 0: one impact and the rebound
 PENALTY_EPS = ("1e-2", "1e-3", "1e-4")
+NITSCHE_GAMMA0 = ("1e3", "1e4", "1e5")
 RUNS.update({
     "rest_constraint": ("test1", ["-solver", "activeset"] + REST),
     **{f"rest_penalty_{e}": ("test1", ["-contact", "penalty", "-penalty_eps", e] + REST) for e in PENALTY_EPS},
@@ -95,6 +96,12 @@ RUNS.update({
     "penalty_p2": ("test1", ["-order", "2", "-contact", "penalty", "-T", "14", "-mesh", COARSE]),
     "cantilever_penalty": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4", "-probes", "0,1.5,10,1.5",
                                           "-snapshots", "5"]),
+    # Nitsche (theta 1, 0, -1), its limit gamma0 -> infinity, with Verlet as in [3], on a clamped body
+    **{f"nitsche_theta{th}": ("test1", ["-contact", "nitsche", "-nitsche_theta", th, "-T", "30"]) for th in ("1", "0", "-1")},
+    **{f"rest_nitsche_{g}": ("test1", ["-contact", "nitsche", "-nitsche_gamma0", g] + REST) for g in NITSCHE_GAMMA0},
+    "verlet_nitsche": ("test1", ["-scheme", "verlet", "-contact", "nitsche", "-dt", "0.01", "-T", "30"]),
+    "f0_nitsche": ("test1", ["-contact", "nitsche", "-nitsche_theta", "-1"] + F0_IMPACT),
+    "cantilever_nitsche": ("cantilever", ["-T", "10", "-contact", "nitsche", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
     # schemes: Newmark (classical gamma = 1/2, and damped), explicit Verlet with penalty
     "newmark_classical": ("test1", ["-scheme", "newmark", "-solver", "activeset", "-T", "30"]),
     "newmark_damped": ("test1", ["-scheme", "newmark", "-newmark_gamma", "0.6", "-newmark_beta", "0.3025", "-solver", "activeset",

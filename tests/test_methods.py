@@ -1,12 +1,12 @@
 """The methods beside the paper's (issue 17; docs/methods.md): the lumped and singular mass
-matrices, penalty contact, the Newmark and explicit Verlet schemes. Each test names the
+matrices, penalty and Nitsche contact, the Newmark and explicit Verlet schemes. Each test names the
 property and the equation behind it."""
 import os
 
 import numpy as np
 import pytest
 
-from conftest import PENALTY_EPS, ROOT, refused_into_copy, run_scene
+from conftest import NITSCHE_GAMMA0, PENALTY_EPS, ROOT, refused_into_copy, run_scene
 from golden import compare
 from history import contact_intervals, read_csv
 
@@ -15,21 +15,27 @@ def penetration(h):
     return h["max_penetration"].max()
 
 
+def assert_tends_to_the_constraint_at_first_order(histories, prefix, parameters):
+    """The runs prefix_<p> of the resting disk, p one decade apart towards the constraint: their
+    penetration and their difference in u from the constraint's run fall 10x per decade (8 to 12x)."""
+    ref = histories["rest_constraint"]
+    pen, diff = [], []
+    for p in parameters:
+        h = histories[f"{prefix}_{p}"]
+        pen.append(penetration(h))
+        diff.append(max(np.abs(h["u2_low"] - ref["u2_low"]).max(), np.abs(h["u2_probe0"] - ref["u2_probe0"]).max()))
+    for k in range(len(parameters) - 1):
+        assert 8 < pen[k] / pen[k + 1] < 12, f"{prefix}: penetration {pen}"
+        assert 8 < diff[k] / diff[k + 1] < 12, f"{prefix}: difference from the constraint {diff}"
+
+
 # ---- penalty: the step A x + C' lm(x) = L, lm = kappa [C x - g]_+ (contact_penalty.idp)
 
 def test_penalty_tends_to_the_constraint_linearly_in_eps(histories):
     """As eps -> 0 the penalty step tends to the QP (4) under (10): on the disk resting under
     gravity, the penetration and the difference in u from the constraint's fall 10x per decade
     of eps (first order)."""
-    ref = histories["rest_constraint"]
-    pen, diff = [], []
-    for e in PENALTY_EPS:
-        h = histories[f"rest_penalty_{e}"]
-        pen.append(penetration(h))
-        diff.append(max(np.abs(h["u2_low"] - ref["u2_low"]).max(), np.abs(h["u2_probe0"] - ref["u2_probe0"]).max()))
-    for k in range(len(PENALTY_EPS) - 1):
-        assert 8 < pen[k] / pen[k + 1] < 12, f"penetration {pen}"
-        assert 8 < diff[k] / diff[k + 1] < 12, f"difference from the constraint {diff}"
+    assert_tends_to_the_constraint_at_first_order(histories, "rest_penalty", PENALTY_EPS)
     # the penalty law at the lowest point (X2 = 0 on the flat foundation): alpha = penetration / eps
     for e in PENALTY_EPS:
         h = histories[f"rest_penalty_{e}"]
@@ -120,17 +126,26 @@ def test_lumped_mass_with_a_clamped_body(histories):
 
 # ---- golden histories of the new methods, and restarts
 
-@pytest.mark.parametrize("name", ["methods_singular", "methods_lumped", "methods_penalty", "newmark_damped", "verlet_penalty"])
+@pytest.mark.parametrize("name", ["methods_singular", "methods_lumped", "methods_penalty", "newmark_damped", "verlet_penalty",
+                                  "nitsche_theta1", "nitsche_theta0", "nitsche_theta-1", "verlet_nitsche"])
 def test_method_history_matches_golden(histories, name):
     failures = compare(os.path.join(ROOT, "tests", "golden", f"{name}.csv"), histories[name])
     assert not failures, "\n".join(failures)
 
 
-def test_restart_reproduces_a_penalty_singular_mass_run(tmp_path):
-    opts = ["-contact", "penalty", "-mass", "singular", "-snapshots", "none", "-progress", "0", "-checkpoint_every", "50"]
-    run_scene("test1", tmp_path / "full", opts + ["-T", "16"])
-    run_scene("test1", tmp_path / "part", opts + ["-T", "12"])
-    run_scene("test1", tmp_path / "part", ["-restart", str(tmp_path / "part"), "-T", "16"])
+@pytest.mark.parametrize("scene,opts,horizons", [
+    ("test1", ["-contact", "penalty", "-mass", "singular"], ("12", "16")),
+    ("test2", ["-contact", "nitsche", "-nitsche_theta", "-1"], ("12.5", "14")),
+    ("test2", ["-scheme", "newmark", "-newmark_gamma", "0.6", "-newmark_beta", "0.3025", "-solver", "activeset"], ("12.5", "20")),
+], ids=["penalty-singular", "nitsche-moving", "newmark-moving"])
+def test_restart_reproduces_the_run(tmp_path, scene, opts, horizons):
+    """A restart from a checkpoint during contact gives the uninterrupted run's rows, byte for
+    byte: the active set, the multipliers (and Newmark's acceleration, recomputed from them)."""
+    opts = opts + ["-snapshots", "none", "-progress", "0", "-checkpoint_every", "50"]
+    stop, end = horizons
+    run_scene(scene, tmp_path / "full", opts + ["-T", end])
+    run_scene(scene, tmp_path / "part", opts + ["-T", stop])
+    run_scene(scene, tmp_path / "part", ["-restart", str(tmp_path / "part"), "-T", end])
     assert (tmp_path / "full" / "history.csv").read_bytes() == (tmp_path / "part" / "history.csv").read_bytes()
 
 
@@ -184,16 +199,21 @@ def test_newmark_keeps_the_constraint_exactly(histories):
         assert penetration(histories[name]) < 1e-9
 
 
+def assert_near_the_getfem_reference(h, u2_bound):
+    """The first impact of the reference ([8.95, 23.83]) within 0.15, and u2_low within u2_bound."""
+    ref = read_csv(os.path.join(ROOT, "tests", "reference", "getfem-verlet-nitsche-test1.csv"))
+    start, end = contact_intervals(h["t"], h["active_nodes"] > 0)[0]
+    assert abs(start - 8.95) <= 0.15 and abs(end - 23.83) <= 0.15, (start, end)
+    s = ref["t"] <= h["t"][-1]
+    assert np.abs(np.interp(ref["t"][s], h["t"], h["u2_low"]) - ref["u2_low"][s]).max() < u2_bound
+
+
 def test_verlet_penalty_agrees_with_the_getfem_reference(histories):
     """The GetFEM reference is explicit Verlet with Nitsche contact (theta = 1, gamma0 = 1000) at
     dt = 0.01 ([3]); explicit Verlet with penalty (eps = 1e-3) is the nearest method here: same
     first contact to 0.15, u2_low to 0.25, the energy within 1.5% of its start."""
     h = histories["verlet_penalty"]
-    ref = read_csv(os.path.join(ROOT, "tests", "reference", "getfem-verlet-nitsche-test1.csv"))
-    start, end = contact_intervals(h["t"], h["active_nodes"] > 0)[0]
-    assert abs(start - 8.95) <= 0.15 and abs(end - 23.83) <= 0.15, (start, end)
-    s = ref["t"] <= h["t"][-1]
-    assert np.abs(np.interp(ref["t"][s], h["t"], h["u2_low"]) - ref["u2_low"][s]).max() < 0.25
+    assert_near_the_getfem_reference(h, 0.25)
     m = h["modified_energy"]
     assert np.abs(m - m[0]).max() < 0.015 * m[0]
 
@@ -225,3 +245,45 @@ def test_verlet_just_below_the_critical_step_is_stable_and_above_it_stops(tmp_pa
 def test_verlet_runs_at_p2(histories):
     h = histories["verlet_p2"]
     assert np.isfinite(h["u2_low"]).all() and h["active_nodes"].max() > 0
+
+
+# ---- Nitsche (contact_nitsche.idp)
+
+def test_nitsche_tends_to_the_constraint_as_gamma0_grows(histories):
+    """gamma = gamma0 / h -> infinity: Nitsche's step tends to the QP (4) under (10), the penetration
+    and the difference in u falling about as 1 / gamma0 (10x per decade, measured 9.6-10.8)."""
+    assert_tends_to_the_constraint_at_first_order(histories, "rest_nitsche", NITSCHE_GAMMA0)
+
+
+@pytest.mark.parametrize("theta", ["1", "0", "-1"])
+def test_nitsche_first_impact_and_no_energy_gain(histories, theta):
+    """Every theta keeps the first impact of Test 1 ([8.95, 23.9], as the constraint) with a
+    penetration of a few 1e-3 at gamma0 = 1000, and no step raises the modified energy above its
+    start (the theta term at K's mid-point, the contact term at t_{n+1})."""
+    h = histories[f"nitsche_theta{theta}"]
+    start, end = contact_intervals(h["t"], h["active_nodes"] > 0)[0]
+    assert abs(start - 8.95) < 0.06 and abs(end - 23.9) < 0.11, (start, end)
+    assert 1e-3 < penetration(h) < 0.01
+    m = h["modified_energy"]
+    assert m.max() <= m[0] * (1 + 1e-12)
+
+
+def test_nitsche_with_f0_loses_energy_only_at_the_impact(histories):
+    h = histories["f0_nitsche"]
+    e = h["energy"]
+    assert e[-1] < e[0] and e.max() <= e[0] * (1 + 1e-12)
+
+
+def test_verlet_nitsche_is_the_getfem_reference_scheme(histories):
+    """Explicit Verlet with Nitsche (theta = 1, gamma0 = 1000) at dt = 0.01 is the reference's own
+    method ([3]; another mesh and code): first contact within 0.15, u2_low within 0.2, the
+    reference's penetration (0.055) in size."""
+    h = histories["verlet_nitsche"]
+    assert_near_the_getfem_reference(h, 0.2)
+    assert 0.01 < penetration(h) < 0.06
+
+
+def test_nitsche_with_a_clamped_body(histories, run_status):
+    h = histories["cantilever_nitsche"]
+    assert np.abs(h["u2_probe0"]).max() == 0 and h["active_nodes"].max() > 0
+    assert "warning" not in run_status["cantilever_nitsche"][1]
