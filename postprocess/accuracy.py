@@ -32,12 +32,19 @@ run (u2_low, the h-study's measure); wall/CPU seconds and memory of each run;
 observed orders in h (h = 1/sqrt(vertices)) per window; for each P2 run, the
 cheapest P1 run as accurate. P2 on the paper's mesh at dt = 0.00625 gives the size
 of the time error at dt = 0.0125. A run that fails is left out with its error line.
+Per method (the methods of make methods, docs/methods.md): Test 1 to T = 40 on the paper's
+mesh at dt = 0.1, 0.05, 0.025, 0.0125 (explicit Verlet: 0.01, 0.005, 0.0025), each against
+the same method at a 4x smaller dt than its finest (its time error) and against the paper's
+method's such run (the model difference), versus wall time; for explicit Verlet the least
+wall time of a stable run, T / dt_c steps at its measured cost per step.
 Writes results/accuracy/table.csv, table.md, orders.md, svk.md, work_precision.png/pdf,
-p2.md, p2_table.csv, p2_work_precision.png/pdf (--p2-only: the P2 part alone).
+p2.md, p2_table.csv, p2_work_precision.png/pdf (--p2-only: the P2 part alone), methods.md,
+methods_table.csv, methods_work_precision.png/pdf (--methods-only: that part alone).
 """
 import argparse
 import csv
 import os
+import re
 import sys
 
 import matplotlib
@@ -49,6 +56,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench import ROOT, run_case  # noqa: E402
 from history import contact_intervals, read_run, read_summary  # noqa: E402
+from methods import METHODS  # noqa: E402
 
 DTS = [0.2, 0.1, 0.05, 0.025, 0.0125]
 MESHES = {"coarse": ("meshes/disk_coarse.msh", 277), "paper": ("meshes/disk.msh", 989),
@@ -189,22 +197,42 @@ def nodes(run_dir, order_):
     return v if order_ == 1 else 2 * v + t - 1
 
 
+def measured_rows(path, reuse, key=lambda row: row["name"]):
+    """The rows of an earlier run's table (--reuse), by key; {} without --reuse or the table."""
+    if not (reuse and os.path.exists(path)):
+        return {}
+    with open(path) as f:
+        return {key(row): row for row in csv.DictReader(f)}
+
+
+def finished_history(d, old):
+    """The history in d when it is the finished run that the table row `old` measured, else None."""
+    if not old or not os.path.exists(os.path.join(d, "summary.txt")):
+        return None
+    h = read_run(d)
+    return h if abs(h["t"][-1] - T) < 1e-9 and len(h["t"]) - 1 == int(old["steps"]) else None
+
+
+def save_study(out, fig, figure_stem, md_name, md):
+    """The study's figure as PNG and PDF, and its lines as md_name, into out."""
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(out, f"{figure_stem}.{ext}"), dpi=150, bbox_inches="tight")
+    plt.close(fig)
+    with open(os.path.join(out, md_name), "w") as f:
+        f.write("\n".join(md) + "\n")
+
+
 def p2_study(out, reuse):
     """P1 and P2 on the mesh sequence at dt = P2_DT against P2 on P2_REFERENCE; returns the lines of p2.md."""
-    measured = {}
-    path = os.path.join(out, "p2_table.csv")
-    if reuse and os.path.exists(path):
-        with open(path) as f:
-            measured = {row["name"]: row for row in csv.DictReader(f)}
+    measured = measured_rows(os.path.join(out, "p2_table.csv"), reuse)
     runs, failed = {}, {}
     for n, (name, (order_, mesh, dt)) in enumerate(P2_CASES.items()):
         d = os.path.join(out, name)
         old = measured.get(name)
-        if old and os.path.exists(os.path.join(d, "summary.txt")):
-            h = read_run(d)
-            if abs(h["t"][-1] - T) < 1e-9 and len(h["t"]) - 1 == int(old["steps"]):
-                runs[name] = dict({k: float(old[k]) for k in ("wall_s", "cpu_s", "peak_MiB")}, steps=int(old["steps"]), history=h)
-                continue
+        h = finished_history(d, old)
+        if h is not None:
+            runs[name] = dict({k: float(old[k]) for k in ("wall_s", "cpu_s", "peak_MiB")}, steps=int(old["steps"]), history=h)
+            continue
         print(f"accuracy p2 [{n + 1}/{len(P2_CASES)}]: {name}", flush=True)
         try:
             runs[name] = run_case(out, name, "test1", ["-T", f"{T:g}", "-dt", f"{dt:g}", "-order", str(order_), "-mesh",
@@ -299,11 +327,104 @@ def p2_study(out, reuse):
         ax.set(xlabel=f"wall seconds (Test 1, T = {T:g}, dt = {P2_DT:g})", ylabel=f"error against P2 on {P2_REFERENCE}",
                title=what)
         ax.legend(fontsize=7)
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(out, f"p2_work_precision.{ext}"), dpi=150, bbox_inches="tight")
-    plt.close(fig)
-    with open(os.path.join(out, "p2.md"), "w") as f:
-        f.write("\n".join(md) + "\n")
+    save_study(out, fig, "p2_work_precision", "p2.md", md)
+    return md
+
+
+# ---- per method (methods.md): the methods of docs/methods.md on Test 1, the paper's mesh
+M_DTS = [0.1, 0.05, 0.025, 0.0125]          # implicit schemes; reference dt = M_DTS[-1] / 4
+V_DTS = [0.01, 0.005, 0.0025]                # explicit Verlet (its critical step is about 0.02); reference V_DTS[-1] / 4
+CRITICAL_RE = re.compile(r"critical step ([0-9.eE+-]+)")
+
+
+def method_dts(name):
+    dts = V_DTS if name.startswith("verlet") else M_DTS
+    return dts + [dts[-1] / 4]
+
+
+def methods_study(out, reuse):
+    """Each method of make methods at several dt: its error against its own time-converged run (the
+    time error) and against the paper's method's (the model difference), versus wall time; for explicit
+    Verlet, the least wall time any stable run can take (T / dt_c steps). Returns the lines of methods.md."""
+    path = os.path.join(out, "methods_table.csv")
+    measured = measured_rows(path, reuse)
+    runs, critical = {}, {}
+    cases = [(m, dt) for m in METHODS for dt in method_dts(m)]
+    for n, (m, dt) in enumerate(cases):
+        name = f"method_{m}_dt{dt:g}"
+        old = measured.get(name)
+        h = finished_history(os.path.join(out, name), old)
+        if h is not None:
+            runs[(m, dt)] = dict(wall_s=float(old["wall_s"]), steps=int(old["steps"]), history=h)
+            if old["critical_dt"]:
+                critical[m] = float(old["critical_dt"])
+            continue
+        print(f"accuracy methods [{n + 1}/{len(cases)}]: {name}", flush=True)
+        args = list(METHODS[m][1])
+        if "-dt" in args:                    # the method's own dt is replaced by the study's
+            del args[args.index("-dt"):args.index("-dt") + 2]
+        runs[(m, dt)] = run_case(out, name, "test1", ["-T", f"{T:g}", "-dt", f"{dt:g}", "-mesh", MESHES["paper"][0]] + args)
+        found = CRITICAL_RE.search(runs[(m, dt)]["log"])
+        if found:
+            critical[m] = float(found.group(1))
+    with open(path, "w") as f:
+        f.write("name,method,dt,wall_s,steps,critical_dt\n")
+        for (m, dt), r in runs.items():
+            f.write(f"method_{m}_dt{dt:g},{m},{dt:g},{r['wall_s']:.9g},{r['steps']},{critical.get(m, '')}\n")
+    paper_ref = runs[("paper", method_dts("paper")[-1])]["history"]
+    rows = []
+    for (m, dt), r in runs.items():
+        ref_dt = method_dts(m)[-1]
+        if dt == ref_dt:
+            continue
+        own = sampled(r["history"]) - sampled(runs[(m, ref_dt)]["history"])
+        model = sampled(r["history"]) - sampled(paper_ref)
+        rows.append({"method": m, "dt": dt, "wall_s": r["wall_s"], "steps": r["steps"],
+                     "time_err": np.abs(own).max(), "time_err_l2": np.sqrt(SAMPLE * (own ** 2).sum() / T),
+                     "model_diff": np.abs(model).max(), "model_diff_l2": np.sqrt(SAMPLE * (model ** 2).sum() / T)})
+    md = [f"## Per method: the time error and the difference from the paper's method (Test 1, T = {T:g}, paper's mesh)", "",
+          "Errors of u2_low, max over t = 0.2 k (L2 in time in brackets). Time error: against the same method at dt / 4 "
+          f"of its finest dt (implicit schemes: dt = {M_DTS[-1] / 4:g}; explicit Verlet: dt = {V_DTS[-1] / 4:g}). "
+          f"Difference from the paper: against mid-point + constraint at dt = {method_dts('paper')[-1]:g}.", "",
+          "| method | dt | wall s | time error | observed order | difference from the paper |",
+          "| --- | ---: | ---: | --- | ---: | --- |"]
+    for m in METHODS:
+        sel = [r for r in rows if r["method"] == m]
+        ordr = order([r["dt"] for r in sel], [r["time_err"] for r in sel])
+        for i, r in enumerate(sel):
+            md.append(f"| {METHODS[m][0] if i == 0 else ''} | {r['dt']:g} | {r['wall_s']:.1f} | {r['time_err']:.2e} "
+                      f"({r['time_err_l2']:.1e}) | {f'{ordr:.2f}' if i == 0 else ''} | {r['model_diff']:.2e} ({r['model_diff_l2']:.1e}) |")
+    least = {}
+    for m, dt_c in critical.items():       # explicit: T / dt_c steps at the measured cost per step, plus the set-up
+        # wall = set-up + per_step x steps, fitted by least squares to the method's runs (4 dt)
+        steps = [runs[(m, dt)]["steps"] for dt in method_dts(m)]
+        per_step, setup = np.polyfit(steps, [runs[(m, dt)]["wall_s"] for dt in method_dts(m)], 1)
+        least[m] = (dt_c, setup + per_step * T / dt_c, per_step)
+    md += ["", "Explicit Verlet's cost is bounded below by its critical step dt_c (computed by the run): no stable run "
+           "takes fewer than T / dt_c steps. Its least wall time, from its measured cost per step and set-up:", "",
+           "| method | dt_c | ms per step | least wall s (T / dt_c steps) | wall s of the paper's method at dt = 0.1 |",
+           "| --- | ---: | ---: | ---: | ---: |"]
+    for m, (dt_c, wall, per_step) in least.items():
+        md.append(f"| {METHODS[m][0]} | {dt_c:.4g} | {1000 * per_step:.2f} | {wall:.2f} | {runs[('paper', 0.1)]['wall_s']:.2f} |")
+
+    fig, axes = plt.subplots(1, 2, figsize=(15, 6), sharex=True)
+    cmap = plt.get_cmap("tab20")
+    for ax, key, what in zip(axes, ("time_err", "model_diff"),
+                             ("time error (against the same method at a 4x smaller dt)",
+                              f"difference from the paper's method (dt = {method_dts('paper')[-1]:g})")):
+        for i, m in enumerate(METHODS):
+            sel = [r for r in rows if r["method"] == m and r[key] > 0]
+            explicit = m in least
+            ax.loglog([r["wall_s"] for r in sel], [r[key] for r in sel], marker="s" if explicit else "o",
+                      linestyle="--" if explicit else "-", color=cmap(i), label=METHODS[m][0])
+            if explicit:
+                ax.axvline(least[m][1], color=cmap(i), linestyle=":", linewidth=1)
+        ax.set(xlabel=f"wall seconds (Test 1, T = {T:g}, paper's mesh)", ylabel="max error of u2_low", title=what)
+    for m, (dt_c, wall, _) in least.items():
+        axes[0].annotate(f"least cost at dt_c = {dt_c:.3g}", (wall, axes[0].get_ylim()[0]), rotation=90, fontsize=7,
+                         xytext=(2, 4), textcoords="offset points", va="bottom")
+    axes[0].legend(fontsize=7)
+    save_study(out, fig, "methods_work_precision", "methods.md", md)
     return md
 
 
@@ -348,10 +469,15 @@ def main():
     p.add_argument("--reuse", action="store_true",
                    help="rebuild the tables and the plot from the runs and costs already in --out, running only what is missing")
     p.add_argument("--p2-only", action="store_true", help="run only the P2-against-P1 part (p2.md)")
+    p.add_argument("--methods-only", action="store_true", help="run only the per-method part (methods.md)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     if a.p2_only:
         print("\n".join(p2_study(a.out, a.reuse)))
+        print(f"written to {a.out}/")
+        return
+    if a.methods_only:
+        print("\n".join(methods_study(a.out, a.reuse)))
         print(f"written to {a.out}/")
         return
     dts = DTS[1:4] if a.quick else DTS
@@ -361,16 +487,13 @@ def main():
     grid = [("test1", m, dt, s) for m in meshes for s in solvers for dt in dts if in_grid(m, s, dt)]
     grid += [("test2", "paper", dt, s) for s in ("ipopt 1e-8", "activeset") for dt in (0.1, 0.05, 0.025, 0.0125)
              if not a.quick or dt in dts]
-    measured = {}
-    if a.reuse and os.path.exists(os.path.join(a.out, "table.csv")):
-        with open(os.path.join(a.out, "table.csv")) as f:
-            for row in csv.DictReader(f):
-                measured[(row["test"], row["mesh"], float(row["dt"]), row["solver"])] = row
+    measured = measured_rows(os.path.join(a.out, "table.csv"), a.reuse,
+                             key=lambda row: (row["test"], row["mesh"], float(row["dt"]), row["solver"]))
     for n, (test, mesh, dt, solver) in enumerate(grid):
         name = f"{test}_{mesh}_dt{dt}_{solver.replace(' ', '')}"
         old = measured.get((test, mesh, dt, solver))
-        h = read_run(os.path.join(a.out, name)) if old and os.path.exists(os.path.join(a.out, name, "history.csv")) else None
-        if h is not None and len(h["t"]) - 1 == int(old["steps"]) and abs(h["t"][-1] - T) < 1e-9:   # a finished run
+        h = finished_history(os.path.join(a.out, name), old)
+        if h is not None:
             runs[(test, mesh, dt, solver)] = dict({k: float(old[k]) for k in ("wall_s", "cpu_s", "ms_per_step", "peak_MiB")},
                                                   steps=int(old["steps"]), qp_steps=int(old["qp_steps"]), history=h)
             continue
@@ -425,6 +548,7 @@ def main():
         with open(os.path.join(a.out, "svk.md"), "w") as f:
             f.write("\n".join(svk_md) + "\n")
         p2_md = p2_study(a.out, a.reuse)
+        p2_md += [""] + methods_study(a.out, a.reuse)
 
     # colour = mesh, marker and line = solver; max and L2-in-time error side by side
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharex=True)

@@ -12,7 +12,10 @@ ratios asked for:
     lambda = mu = 30 to T = 16 (SVK collapses at t = 16.8), and the stiff
     Test 1 (lambda = mu = 300, to --T); Newton iterations per step and GMRES
     iterations per Newton iteration from the runs' summary.txt, and the aim
-    "SVK Test 1 at most 20x the linear active-set wall time".
+    "SVK Test 1 at most 20x the linear active-set wall time";
+  - every method of make methods (penalty, Nitsche, singular and lumped mass,
+    Newmark, explicit Verlet) on Test 1: ms per step and wall time against
+    the paper's method.
 Cases run one at a time, so they do not compete for the 2 cores. A case that
 takes less than 10 s is run --repeat times and its median kept (the spread is
 reported), so the ratios of short runs are not one noisy sample. Writes
@@ -28,6 +31,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from history import read_run, read_summary  # noqa: E402
+from methods import METHODS  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -49,7 +53,7 @@ def run_case(out_base, name, scene, args):
     steps = len(h["t"]) - 1
     return {"case": name, "scene": scene, "args": " ".join(args), "wall_s": wall,
             "cpu_s": usage.ru_utime + usage.ru_stime, "peak_MiB": usage.ru_maxrss / 1024, "steps": steps, "qp_steps": int(h["qp_solved"].sum()),
-            "ms_per_step": 1000 * wall / steps, "history": h,
+            "ms_per_step": 1000 * wall / steps, "history": h, "log": log,
             **{k: int(summary.get(k, 0)) for k in ("newton_iterations", "newton_retries", "gmres_iterations")}}
 
 
@@ -101,6 +105,8 @@ def main():
               ("cantilever svk", "cantilever", ["-material", "svk"]),
               ("csm3", "csm3", []),
               ("csm3 newton_precond initial", "csm3", ["-newton_precond", "initial"])]
+    # the methods of make methods (docs/methods.md) on Test 1, the paper's mesh, to --T
+    cases += [(f"methods {m}", "test1", ["-T", a.T] + args) for m, (_, args) in METHODS.items()]
     # set-up against the cost per step: one step, and T = 20, on meshes up to refine 8 (about 57,000 vertices)
     big = [("paper", "meshes/disk.msh"), ("refine4", "meshes/disk_refine4.msh"), ("refine8", "meshes/disk_refine8.msh")]
     for mesh, path in big:
@@ -193,6 +199,13 @@ def main():
         per_step = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
         lines.append(f"| {mesh} | {read_summary(os.path.join(a.out, f'test1_activeset_{mesh}_T20'))['vertices']} | "
                      f"{one['wall_s']:.2f} | {run['wall_s']:.2f} | {per_step:.2f} |")
+    paper = by["methods paper"]
+    lines += ["", f"The methods of docs/methods.md, Test 1 on the paper's mesh to T = {a.T} (wall time against the "
+              "paper's method, mid-point + constraint by the active-set solver, in the same run):", "",
+              "| method | wall s | steps | ms/step | wall / the paper's |", "| --- | ---: | ---: | ---: | ---: |"]
+    for m, (label, _) in METHODS.items():
+        r = by[f"methods {m}"]
+        lines.append(f"| {label} | {r['wall_s']:.2f} | {r['steps']} | {r['ms_per_step']:.2f} | {r['wall_s'] / paper['wall_s']:.1f} |")
     text = "\n".join(lines)
     print(text)
     with open(os.path.join(a.out, "bench.md"), "w") as fh:

@@ -91,6 +91,9 @@ RUNS.update({
     "methods_penalty": ("test1", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"]),
     "methods_penalty_test2": ("test2", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"]),
     **{f"f0_{m}": ("test1", ["-mass", m, "-solver", "activeset"] + F0_IMPACT) for m in ("consistent", "singular", "lumped")},
+    # the same impact at dt / 2 and dt / 4: the energy lost over it as dt -> 0
+    **{f"f0_{m}_dt{dt}": ("test1", ["-mass", m, "-solver", "activeset", "-dt", dt] + F0_IMPACT)
+       for m in ("consistent", "singular") for dt in ("0.025", "0.0125")},
     "f0_penalty": ("test1", ["-contact", "penalty"] + F0_IMPACT),
     **{f"freeflight_{m}": ("freeflight", ["-mass", m]) for m in ("lumped", "singular")},
     "penalty_p2": ("test1", ["-order", "2", "-contact", "penalty", "-T", "14", "-mesh", COARSE]),
