@@ -10,6 +10,8 @@ SCENE ?= test1
 # make run writes here by default: a directory no other target owns
 OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
+# runs at a time in make svk, methods and csm3 (the machine has 2 cores)
+JOBS ?= 2
 T1_VALUES := 18 22 26
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh)
@@ -64,8 +66,16 @@ meshes/%_coarse.msh: REFINE = 0.5
 meshes/%_fine.msh: REFINE = 2
 meshes/%_refine4.msh: REFINE = 4
 meshes/%_refine8.msh: REFINE = 8
+# One line while gmsh works (and every 30 s on a long build), one line on a gmsh error (its first
+# "Error" line; the whole log stays in $@.log).
 define build_mesh
-	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 || { cat $@.log; rm -f $@; exit 1; }
+	@echo "meshing $@ from $< (refine $(REFINE)) ..."
+	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
+	while kill -0 $$pid 2>/dev/null; do sleep 1; waited=$$((waited + 1)); \
+	  [ $$((waited % 30)) = 0 ] && echo "meshing $@: $$waited s ..."; done; \
+	if ! wait $$pid || [ ! -s $@ ]; then \
+	  echo "error: gmsh could not mesh $<: $$(grep -m 1 -i 'error' $@.log || tail -n 1 $@.log) (whole log: $@.log)" >&2; \
+	  rm -f $@; exit 1; fi
 	@rm -f $@.log
 	@$(PYTHON) postprocess/mesh_counts.py $@
 endef
@@ -81,7 +91,15 @@ meshes/%_refine8.msh: meshes/%.geo | deps-run
 	$(build_mesh)
 
 # ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
-run: meshes | deps-run
+# Builds only the mesh the run uses (-mesh in ARGS, else the scene's meshFile, else the disk), when
+# it is a meshes/NAME.msh that a rule above makes; a broken .geo elsewhere in meshes/ does not matter.
+run: | deps-run
+	@mesh=meshes/disk.msh; \
+	scene_mesh=$$(sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)".*/\1/p' "edp/scenes/$(SCENE).idp" \
+	              2>/dev/null | tail -n 1); \
+	[ -n "$$scene_mesh" ] && mesh=$$scene_mesh; \
+	set -- $(ARGS); while [ $$# -gt 1 ]; do [ "$$1" = -mesh ] && mesh=$$2; shift; done; \
+	if $(MAKE) -n "$$mesh" >/dev/null 2>&1; then $(MAKE) --no-print-directory "$$mesh" || exit 1; fi
 	$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
 
 # ---- the paper's tests (results are rebuilt when the code or scene changes).
@@ -115,17 +133,17 @@ stress: meshes meshes/disk_refine4.msh | deps-plot
 
 # ---- St Venant-Kirchhoff next to the linear body (see postprocess/svk_compare.py); results/svk/summary.md
 svk: meshes | deps-plot
-	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk
+	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk --jobs $(JOBS)
 
 # ---- the methods of the paper's references beside its own: penalty, Nitsche, singular and lumped mass,
 # Newmark, explicit Verlet (see postprocess/methods.py); results/methods/summary.md
 methods: meshes | deps-plot
-	$(PYTHON) postprocess/methods.py --out $(RESULTS)/methods
+	$(PYTHON) postprocess/methods.py --out $(RESULTS)/methods --jobs $(JOBS)
 
 # ---- the Turek-Hron CSM3 benchmark against its published values, with its convergence in
 # mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md
 csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
-	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3
+	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3 --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment
 scenes:

@@ -110,7 +110,18 @@ fi
 # here, as the driver will read it: the scene's line `order = N;`, the restarted run's
 # parameters.txt, then -order on the command line. contact.edp checks that it agrees.
 order=1
-scene_order=$(sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' "$scene_file" | tail -n 1)
+# the scene without its comments (// to the end of a line, /* ... */ across lines), as FreeFEM reads it
+scene_code() {
+  awk '{ line = $0; out = ""
+         while (line != "") {
+           if (inblock) { i = index(line, "*/"); if (!i) { line = ""; break }; line = substr(line, i + 2); inblock = 0; continue }
+           i = index(line, "/*"); j = index(line, "//")
+           if (j && (!i || j < i)) { out = out substr(line, 1, j - 1); line = "" }
+           else if (i) { out = out substr(line, 1, i - 1); line = substr(line, i + 2); inblock = 1 }
+           else { out = out line; line = "" } }
+         print out }' "$scene_file"
+}
+scene_order=$(scene_code | sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' | tail -n 1)
 [ -n "$scene_order" ] && order=$scene_order
 [ -n "$restart_dir" ] && order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
 for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do [ "${args[i]}" = "-order" ] && order=${args[i + 1]}; done
@@ -192,6 +203,15 @@ case "$rc" in
        exit_status=1
      fi ;;
 esac
+# Success is a run that reached T: committed into OUT, with the summary it writes last. A scene
+# that calls exit(0) stops FreeFEM with status 0 before that (issue 19).
+if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summary.txt" ]; }; then
+  if [ -e "$stage/.committed" ]; then where="after the run started; history.csv keeps the steps it made"
+  else where="before the run started; $out_arg is unchanged"; fi
+  echo "error: FreeFEM stopped without an error but before the run reached T (no summary.txt), $where; if the scene is" \
+       "your own, check that it does not call exit()" >&2
+  exit_status=1
+fi
 # A write that failed mid-row leaves part of a row: history.csv keeps the complete ones.
 if [ "$exit_status" = 7 ] && [ -e "$stage/.committed" ] && [ -s "$out/history.csv" ] &&
    [ -n "$(tail -c 1 "$out/history.csv")" ]; then

@@ -54,6 +54,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from bench import ROOT, run_case  # noqa: E402
 from history import contact_intervals, read_run, read_summary  # noqa: E402
 from methods import METHODS  # noqa: E402
@@ -423,7 +424,8 @@ def methods_study(out, reuse):
     for m, (dt_c, wall, _) in least.items():
         axes[0].annotate(f"least cost at dt_c = {dt_c:.3g}", (wall, axes[0].get_ylim()[0]), rotation=90, fontsize=7,
                          xytext=(2, 4), textcoords="offset points", va="bottom")
-    axes[0].legend(fontsize=7)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, -0.12))
     save_study(out, fig, "methods_work_precision", "methods.md", md)
     return md
 
@@ -472,6 +474,8 @@ def main():
     p.add_argument("--methods-only", action="store_true", help="run only the per-method part (methods.md)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    part = "p2" if a.p2_only else ("methods" if a.methods_only else "")
+    jobs.stop_on_interrupt("make accuracy", a.out, [f"{part}*.md", f"{part}*work_precision.png", f"{part}*work_precision.pdf"])
     if a.p2_only:
         print("\n".join(p2_study(a.out, a.reuse)))
         print(f"written to {a.out}/")

@@ -30,6 +30,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from history import read_run, read_summary  # noqa: E402
 from methods import METHODS  # noqa: E402
 
@@ -40,11 +41,15 @@ RUN = os.path.join(ROOT, "edp", "run.sh")
 def run_case(out_base, name, scene, args):
     out = os.path.join(out_base, name)
     t0 = time.perf_counter()
-    p = subprocess.Popen([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args,
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=dict(os.environ, FORCE="1"))
-    log = p.stdout.read()
-    # wait4: this case's own CPU time and peak memory, FreeFEM included (Linux counts reaped descendants)
-    _, status, usage = os.wait4(p.pid, 0)
+    p = jobs.start([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args,
+                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=dict(os.environ, FORCE="1"))
+    try:
+        log = p.stdout.read()
+        # wait4: this case's own CPU time and peak memory, FreeFEM included (Linux counts reaped descendants)
+        _, status, usage = os.wait4(p.pid, 0)
+        p.returncode = os.waitstatus_to_exitcode(status)
+    finally:
+        jobs.finished(p)
     wall = time.perf_counter() - t0
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit(f"bench case {name} failed:\n{log}")
@@ -77,6 +82,7 @@ def main():
     p.add_argument("--repeat", type=int, default=3, help="runs of a case shorter than 10 s (median kept)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    jobs.stop_on_interrupt("make bench", a.out, ["bench.md", "bench.csv"])
     cases = [
         ("test1 ipopt", "test1", ["-T", a.T]),
         ("test1 ipopt skip_free=0", "test1", ["-T", a.T, "-skip_free", "0"]),

@@ -10,9 +10,7 @@ OUT/summary.md (the table) and OUT/csm3.png/.pdf (u_x, u_y of A against t).
 A run that fails stops this script with a one-line error and exit status 1.
 """
 import argparse
-import concurrent.futures
 import os
-import subprocess
 import sys
 import time
 
@@ -23,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from history import read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -51,7 +50,7 @@ def run_case(out, case):
     run_dir = os.path.join(out, case)
     args = [RUN, "csm3", run_dir] + CASES[case][1] + ["-progress", "0"]
     start = time.time()
-    p = subprocess.run(args, cwd=ROOT, env=dict(os.environ, FORCE="1"), capture_output=True, text=True)
+    p = jobs.run(args, cwd=ROOT, env=dict(os.environ, FORCE="1"))
     if p.returncode != 0:
         line = (p.stderr.strip().splitlines() or ["no message"])[-1]
         raise Failure(f"csm3 {case} failed (exit {p.returncode}): {line}")
@@ -92,12 +91,12 @@ def main():
         if c not in CASES:
             sys.exit(f"error: --cases: no case '{c}' (cases: {', '.join(CASES)})")
     os.makedirs(out, exist_ok=True)
+    jobs.stop_on_interrupt("make csm3", out, ["summary.md", "*.png", "*.pdf"])
     wall = {}
     try:
-        with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-            for case, seconds in pool.map(lambda c: run_case(out, c), cases):
-                wall[case] = seconds
-                print(f"csm3 {case}: {seconds:.0f} s", flush=True)
+        for case, seconds in jobs.run_parallel(lambda c: run_case(out, c), cases, a.jobs):
+            wall[case] = seconds
+            print(f"csm3 {case}: {seconds:.0f} s", flush=True)
     except Failure as e:
         sys.exit(f"error: {e}")
 

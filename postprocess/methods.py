@@ -11,10 +11,8 @@ OUT/<test>/<method>/, and writes into OUT/:
 Any run that fails stops this script with one error line and exit status 1.
 """
 import argparse
-import concurrent.futures
 import csv
 import os
-import subprocess
 import sys
 import time
 
@@ -25,6 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from history import contact_intervals, read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -64,7 +63,7 @@ def run_one(out, test, method):
     run_dir = os.path.join(out, test, method)
     cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0", "-T", T, "-snapshots", f"{SNAPSHOT:g}"] + targs + METHODS[method][1]
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, FORCE="1"), cwd=ROOT)
+    p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
     wall = time.perf_counter() - t0
     with open(os.path.join(out, test, f"{method}.log"), "w") as f:
         f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
@@ -226,18 +225,14 @@ def main():
     out = os.path.abspath(a.out)
     for test in TESTS:
         os.makedirs(os.path.join(out, test), exist_ok=True)
-    for f in ("summary.md", "table.csv"):       # nothing stale that looks current, should this run fail
-        if os.path.exists(os.path.join(out, f)):
-            os.remove(os.path.join(out, f))
+    # nothing stale that looks current, should this run fail or be stopped
+    jobs.stop_on_interrupt("make methods", out, ["summary.md", "table.csv", "*.png", "*.pdf"])
     t0 = time.perf_counter()
     runs = {}
     try:
-        with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
-            futs = {ex.submit(run_one, out, t, m): (t, m) for t in TESTS for m in METHODS}
-            for fut in concurrent.futures.as_completed(futs):
-                res = fut.result()
-                print(f"methods: {res['test']}/{res['method']} ({res['wall']:.1f} s)", flush=True)
-                runs[futs[fut]] = res
+        for res in jobs.run_parallel(lambda tm: run_one(out, *tm), [(t, m) for t in TESTS for m in METHODS], a.jobs):
+            print(f"methods: {res['test']}/{res['method']} ({res['wall']:.1f} s)", flush=True)
+            runs[(res["test"], res["method"])] = res
     except Failure as e:
         print(f"error: make methods: {e}", file=sys.stderr)
         sys.exit(1)

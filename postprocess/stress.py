@@ -27,13 +27,13 @@ that `make check` runs, on shorter horizons.
 import argparse
 import os
 import re
-import subprocess
 import sys
 import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from history import contact_intervals, read_parameters, read_run  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -133,8 +133,7 @@ def case_args(name, horizon=None):
 def run(name, out, horizon=None):
     scene, args = case_args(name, horizon)
     t0 = time.perf_counter()
-    p = subprocess.run([RUN, scene, out, "-progress", "0", "-vtk", "0"] + args, capture_output=True, text=True,
-                       env=dict(os.environ, FORCE="1"))
+    p = jobs.run([RUN, scene, out, "-progress", "0", "-vtk", "0"] + args, env=dict(os.environ, FORCE="1"))
     return p, time.perf_counter() - t0
 
 
@@ -204,6 +203,7 @@ def main():
     p.add_argument("--fast", action="store_true", help="only the make check subset")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    jobs.stop_on_interrupt("make stress", a.out, ["summary.md"])
     names = list(FAST) if a.fast else list(CASES)
     lines = ["| case | stresses | outcome | steps | energy bound | max one-step gain (relative) | max penetration | "
              "max active nodes | contact intervals | failures | seconds |",

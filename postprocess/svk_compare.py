@@ -12,11 +12,9 @@ a one-line error and exit status 1.
 Draws (PNG and PDF) into OUT/ and writes OUT/summary.md.
 """
 import argparse
-import concurrent.futures
 import glob
 import os
 import re
-import subprocess
 import sys
 import time
 
@@ -27,6 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
 from history import read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -62,7 +61,7 @@ def run_one(out, case, model):
         extra = []                       # no foundation: no QP, -solver would only draw a warning
     cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0"] + extra + args
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, FORCE="1"), cwd=ROOT)
+    p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
     wall = time.perf_counter() - t0
     with open(os.path.join(out, case, f"{model}.log"), "w") as f:
         f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
@@ -275,18 +274,16 @@ def main():
     out = os.path.abspath(a.out)
     for case in CASES:
         os.makedirs(os.path.join(out, case), exist_ok=True)
+    jobs.stop_on_interrupt("make svk", out, ["summary.md", "*.png", "*.pdf"])
     t0 = time.perf_counter()
     results = {}
     try:
-        with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
-            futs = {ex.submit(run_one, out, c, m): (c, m) for c in CASES for m in MODELS}
-            for fut in concurrent.futures.as_completed(futs):
-                res = fut.result()
-                b = res["broke"]
-                print(f"svk: {res['case']}/{res['model']}: "
-                      + (f"collapsed at step {b['step']}, t = {b['t']:g}" if b else "completed")
-                      + f" ({res['wall']:.1f} s)", flush=True)
-                results[futs[fut]] = res
+        for res in jobs.run_parallel(lambda cm: run_one(out, *cm), [(c, m) for c in CASES for m in MODELS], a.jobs):
+            b = res["broke"]
+            print(f"svk: {res['case']}/{res['model']}: "
+                  + (f"collapsed at step {b['step']}, t = {b['t']:g}" if b else "completed")
+                  + f" ({res['wall']:.1f} s)", flush=True)
+            results[(res["case"], res["model"])] = res
     except Failure as e:
         print(f"error: make svk: {e}", file=sys.stderr)
         sys.exit(1)

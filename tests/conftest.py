@@ -164,6 +164,20 @@ def earlier_run(tmp_path_factory):
     return str(out)
 
 
+def square_mesh(path, physical, x0=0, y0=0, side=1, size=1):
+    """gmsh meshes the square [x0, x0 + side] x [y0, y0 + side] (lines 1-4: bottom, right, top, left)
+    into path (a .msh, MSH 2.2; its .geo beside it), with `physical` the Physical Curve lines
+    ("Physical Curve(1)={1};..."). Returns path."""
+    x1, y1 = x0 + side, y0 + side
+    geo = str(path)[:-4] + ".geo"
+    with open(geo, "w") as f:
+        f.write(f"Point(1)={{{x0},{y0},0,{size}}};Point(2)={{{x1},{y0},0,{size}}};Point(3)={{{x1},{y1},0,{size}}};"
+                f"Point(4)={{{x0},{y1},0,{size}}};Line(1)={{1,2}};Line(2)={{2,3}};Line(3)={{3,4}};Line(4)={{4,1}};"
+                f"Curve Loop(1)={{1,2,3,4}};Plane Surface(1)={{1}};Physical Surface(1)={{1}};{physical}\n")
+    subprocess.run(["gmsh", "-2", "-format", "msh22", geo, "-o", str(path)], check=True, capture_output=True)
+    return path
+
+
 def refused_into_copy(tmp_path, earlier, scene, args, env=None, **kwargs):
     """Run SCENE ARGS with FORCE=1 into a copy of the earlier run; returns the process
     and whether any file of the earlier run changed."""

@@ -2,11 +2,10 @@
 defect refused with exit 3 and one line naming the file and the defect, before
 gmshload reads it (edp/lib/check_mesh.awk), with an earlier run byte-identical."""
 import os
-import subprocess
 
 import pytest
 
-from conftest import ROOT, refused_into_copy
+from conftest import ROOT, refused_into_copy, square_mesh
 from mesh_counts import msh22_counts
 
 PAPER_MESH = os.path.join(ROOT, "meshes", "disk.msh")
@@ -83,6 +82,42 @@ def tiny():
     return "\n".join(lines)
 
 
+def all_clockwise():
+    """Every triangle of the paper's mesh clockwise: a body whose curve loop is drawn clockwise."""
+    lines = paper_lines()
+    k = lines.index("$Elements") + 2
+    for i in range(k, k + int(lines[k - 1])):
+        f = lines[i].split()
+        if f[1] == "2":
+            f[-1], f[-2] = f[-2], f[-1]
+            lines[i] = " ".join(f)
+    return "\n".join(lines)
+
+
+def with_node(z=None, orphan=False, point=False, tetrahedron=False):
+    """The paper's mesh with one change: the first node lifted to z (a non-planar, 3D mesh), an
+    extra node in no triangle (orphan), that node as a gmsh Physical Point (point), or a
+    tetrahedron among the elements."""
+    lines = paper_lines()
+    k = lines.index("$Nodes") + 1
+    n = int(lines[k])
+    if z is not None:
+        f = lines[k + 1].split()
+        lines[k + 1] = " ".join(f[:3] + [z])
+    if orphan or point:
+        lines[k] = str(n + 1)
+        lines.insert(k + 1 + n, f"{n + 1} 100 100 0")
+    e = lines.index("$Elements") + 1
+    m = int(lines[e])
+    if point:
+        lines[e] = str(m + 1)
+        lines.insert(e + 1 + m, f"{m + 1} 15 2 5 5 {n + 1}")
+    if tetrahedron:
+        lines[e] = str(m + 1)
+        lines.insert(e + 1 + m, f"{m + 1} 4 2 1 1 1 2 3 4")
+    return "\n".join(lines)
+
+
 DEFECTS = {
     "truncated in $Nodes": (lambda: truncated_in("$Nodes"), "truncated in $Nodes: 98 of 989 nodes, no $EndNodes"),
     "truncated in $Elements": (lambda: truncated_in("$Elements"), "truncated in $Elements: 98 of 1976 elements, no $EndElements"),
@@ -94,6 +129,14 @@ DEFECTS = {
     "MSH 4.1": (lambda: "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n", "MSH version 4.1, not 2.2"),
     "empty": (lambda: "", "the file is empty"),
     "tiny triangles": (tiny, "below the 1e-8 that FreeFEM's gmshload accepts"),
+    # issue 19: before, run as the xy projection, or failing later as a singular system (exit 5)
+    "non-planar": (lambda: with_node(z="0.5"), "a 3D mesh: its nodes span z from 0 to 0.5, not one plane"),
+    "tetrahedron": (lambda: with_node(tetrahedron=True), "a 3D mesh: element 1977 is a volume element (type 4)"),
+    "every triangle clockwise": (all_clockwise, "every triangle is clockwise: the body's curve loop is drawn clockwise in its "
+                                                 ".geo; reverse it"),
+    "orphan node": (lambda: with_node(orphan=True), "node 990 (at 100, 100) is in no triangle: an orphan node"),
+    "point off the body": (lambda: with_node(point=True),
+                           "node 990 (at 100, 100) of the point element 1977 (a gmsh Physical Point) is in no triangle"),
 }
 
 
@@ -110,12 +153,7 @@ def test_mesh_defect_is_one_clear_error(tmp_path, earlier_run, defect):
 
 
 def test_mesh_without_contact_label(tmp_path, earlier_run):
-    geo = tmp_path / "square.geo"
-    geo.write_text('Point(1)={0,0,0,1};Point(2)={1,0,0,1};Point(3)={1,1,0,1};Point(4)={0,1,0,1};'
-                   'Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};'
-                   'Plane Surface(1)={1};Physical Curve(2)={1,2,3,4};Physical Surface(1)={1};\n')
-    msh = tmp_path / "square.msh"
-    subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
+    msh = square_mesh(tmp_path / "square.msh", "Physical Curve(2)={1,2,3,4};")
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh)])
     assert p.returncode == 3 and p.stderr.strip() == (f"error: -mesh {msh} has no boundary edge with label 1 (Gamma_C, "
                                                       "-contact_label), and -foundation flat needs one; its labels are 2")

@@ -7,7 +7,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import ROOT, error_lines, files_of, refused_into_copy, run_scene
+from conftest import ROOT, error_lines, files_of, refused_into_copy, run_scene, square_mesh
 from history import read_run
 
 BAD = [
@@ -28,7 +28,10 @@ BAD = [
     (["-material", "svk", "-solver", "ipopt"], "-solver ipopt does not apply to -material svk"),
     (["-material", "svk", "-solver", "activeset"], "-solver activeset does not apply to -material svk"),
     (["-solver", "newton"], "-solver must be ipopt or activeset for -material linear"),
-    (["-material", "svk", "-newton_tol", "0"], "-newton_tol must be in (0, 1)"),
+    (["-material", "svk", "-newton_tol", "0"], "-newton_tol must be in (0, 1e-6]"),
+    # issue 19: 0.999 ran Test 1 to an energy of 1197 from 502 with exit 0
+    (["-material", "svk", "-newton_tol", "0.999"], "-newton_tol must be in (0, 1e-6] (looser, Newton stops before the step "
+                                                   "solves the scheme), got 0.999"),
     (["-material", "svk", "-newton_max_iter", "0"], "-newton_max_iter must be an integer in [1, 10000]"),
     (["-material", "svk", "-newton_precond", "lu"], "-newton_precond must be initial or step; got 'lu'"),
     # methods (issue 17): values, and the combinations that are refused with their reason
@@ -210,18 +213,129 @@ def test_nan_foundation_at_the_start_is_refused(tmp_path, earlier_run):
     assert not changed
 
 
+NAN_LATER = ('foundation = "user";\nT = 1;\nsnapshots = "none";\nfoundationMoving = 1;\n'
+             "macro userFoundationPsi(X1, t) ((t > 0.3 && t < 0.4) ? sqrt(-1.) : -2.) // EOM\n"
+             "macro userFoundationDpsi(X1, t) 0 // EOM\n")
+
+
+def test_nan_foundation_later_in_the_run_is_refused_before_it(tmp_path, earlier_run):
+    """Issue 19: a user psi finite at t = 0 but NaN at t = 0.3 at the Gamma_C vertices. psi is checked
+    at the Gamma_C vertices at every step time before anything reaches OUT: exit 3, one line naming
+    t and X1, the earlier run untouched (before, step 7 failed with exit 4 after OUT was replaced)."""
+    scene = write_scene(tmp_path, "nanlater", NAN_LATER)
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    assert p.returncode == 3 and error_lines(p) == ["error: the foundation is not finite at t = 0.3: at X1 = -17.3205 psi = -nan, "
+                                                    "psi' = 0"], p.stderr
+    assert not changed
+
+
 def test_nan_foundation_during_the_run_stops_it(tmp_path):
-    """A user psi that turns NaN at t in (0.3, 0.4), between the times the start-up check
-    samples: the step stops with exit 4 naming t and X1, not a misleading solver status."""
-    scene = write_scene(tmp_path, "nanlater", 'foundation = "user";\nT = 1;\nsnapshots = "none";\nfoundationMoving = 1;\n'
-                        "macro userFoundationPsi(X1, t) ((t > 0.3 && t < 0.4) ? sqrt(-1.) : -2.) // EOM\n"
-                        "macro userFoundationDpsi(X1, t) 0 // EOM\n")
+    """A user psi that turns NaN at t in (0.3, 0.4), at a step time that the start-up check skips
+    (it checks at most a budget of vertex-times, lowered here by a test hook): the step stops
+    with exit 4 naming t and X1, not a misleading solver status."""
+    scene = write_scene(tmp_path, "nanlater", NAN_LATER)
     out = tmp_path / "out"
-    p = run_scene(scene, out, ["-progress", "0"], check=False)
+    p = run_scene(scene, out, ["-progress", "0"], check=False, env={"CONTACT_TEST_PSI_BUDGET": "100"})
     assert p.returncode == 4 and len(error_lines(p)) == 1
     assert "the foundation is not finite at t = 0.3: at X1 = -17.3205 psi = -nan" in error_lines(p)[0]
     h = read_run(str(out))
     assert (h["step"] == np.arange(6)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
+
+
+@pytest.mark.parametrize("psi,dpsi,args,message", [
+    # issue 19, case 4: psi depends on t, the scene does not say it moves (the disk rested at -2 while
+    # the foundation went to -12)
+    ("(-2 - 0.5 * t)", "0", [], "error: userFoundationPsi changes with t (at X1 = -30: -2 at t = 0, -2.5 at t = 1) but the "
+                                "scene does not declare it moving: add the line foundationMoving = 1; to the scene"),
+    # case 5: psi' wrong only beyond X1 = 31, under this body's Gamma_C (a square on X1 in [36, 46]; it slid
+    # uphill and ended 5.1 inside the foundation); before, psi' was checked on [-30, 30] only
+    ("(X1 > 31 ? -2 + 0.1 * (X1 - 31) : -2)", "0", ["-mesh", "square"],
+     "error: userFoundationDpsi is not the derivative of userFoundationPsi: at X1 = "),
+], ids=["t-dependent-fixed", "dpsi-wrong-under-gamma-c"])
+def test_user_foundation_checked_where_and_when_it_is_used(tmp_path, earlier_run, psi, dpsi, args, message):
+    if "square" in args:
+        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
+        args = ["-mesh", str(msh), "-reference", "auto"]
+    scene = write_scene(tmp_path, "userpsi", f'foundation = "user";\nT = 2;\nsnapshots = "none";\n'
+                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) {dpsi} // EOM\n")
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+    assert p.returncode == 3 and len(error_lines(p)) == 1 and error_lines(p)[0].startswith(message), p.stderr
+    if "square" in psi or "-mesh" in args:
+        assert float(error_lines(p)[0][len(message):].split(",")[0]) >= 36     # under Gamma_C, not on [-30, 30]
+    assert not changed
+
+
+def test_scene_that_calls_exit_0_is_not_a_success(tmp_path, earlier_run):
+    """Issue 19: a scene that calls exit(0) stopped FreeFEM with status 0 and no output, and run.sh
+    reported success. Success is now a run committed into OUT with its summary.txt: exit 1, one line,
+    the earlier run untouched."""
+    scene = write_scene(tmp_path, "exit0", 'T = 1;\nsnapshots = "none";\nexit(0);\n')
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    assert p.returncode == 1 and len(error_lines(p)) == 1, p.stderr
+    assert "stopped without an error but before the run reached T (no summary.txt), before the run started" in error_lines(p)[0]
+    assert "does not call exit()" in error_lines(p)[0]
+    assert not changed
+
+
+def test_boundary_outside_gamma_c_below_the_foundation_at_the_start_is_refused(tmp_path, earlier_run):
+    """Issue 19: only Gamma_C is constrained by (10). With Gamma_C on the disk's top (-contact_label 2)
+    and -u0y -10 the lowest point started 10 inside the foundation and the run exited 0 with
+    max_penetration 0. Any boundary vertex below the foundation at t = 0 is now refused."""
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-contact_label", "2", "-u0y", "-10", "-T", "1",
+                                                                    "-progress", "0"])
+    assert p.returncode == 3 and error_lines(p) == [
+        "error: the initial state puts the boundary vertex (0, 0), which is not on Gamma_C (label 2), 10 below the foundation; "
+        "only Gamma_C is constrained: raise -u0y, lower the foundation, or give that boundary the label of Gamma_C "
+        "(-contact_label)"], p.stderr
+    assert not changed
+
+
+def test_boundary_outside_gamma_c_through_the_foundation_is_recorded_and_said(tmp_path):
+    """The disk with Gamma_C on its top falls through the foundation: the history records the
+    largest penetration of the boundary vertices outside Gamma_C (the lowest point: 20.3 by t = 30,
+    measured), the summary too, and the run ends with a warning line that says why; the constrained
+    Gamma_C itself never penetrates (max_penetration 0)."""
+    out = tmp_path / "out"
+    p = run_scene("test1", out, ["-contact_label", "2", "-T", "30", "-progress", "0", "-snapshots", "none", "-solver",
+                                 "activeset"])
+    h = read_run(str(out))
+    assert h["max_penetration_outside"][0] == 0 and 20 < h["max_penetration_outside"].max() < 21
+    assert h["max_penetration"].max() < 1e-9
+    assert "max_penetration_outside 20.34" in (out / "summary.txt").read_text()
+    warnings = [line for line in p.stderr.splitlines() if line.startswith("warning: boundary vertices outside Gamma_C")]
+    assert len(warnings) == 1 and "only Gamma_C is constrained" in warnings[0], p.stderr
+
+
+def test_singular_step_matrix_names_its_cause(tmp_path, earlier_run):
+    """Issue 19: -rho 1e-20 (in the documented range) makes A = 2 M / dt^2 + K / 2 numerically K, which
+    is singular for a free body; both factorisations fail. It said 'try -factorization lu', and with
+    lu 'try cholesky'. Now one line names A and the ratio of its terms, exit 3, nothing changed."""
+    for factorization in ("cholesky", "lu"):
+        p, changed = refused_into_copy(tmp_path / factorization, earlier_run, "test1",
+                                       ["-rho", "1e-20", "-factorization", factorization, "-T", "1", "-progress", "0"])
+        assert p.returncode == 3 and len(error_lines(p)) == 1, p.stderr
+        line = error_lines(p)[0]
+        assert "A = 800 M + 0.5 K of the step is singular or too ill-conditioned" in line and "try -factorization" not in line
+        assert "check -rho, -dt, -lambda, -mu" in line and not changed
+
+
+def test_order_in_a_comment_of_the_scene_is_a_comment(tmp_path):
+    """Issue 19: `order = 2;` inside a /* */ comment was read by run.sh (which compiles the elements
+    before FreeFEM reads the scene) as if it set the order, and the run was refused; run.sh now
+    reads the scene without its comments, as FreeFEM does."""
+    scene = write_scene(tmp_path, "commented", 'T = 0.1;\nsnapshots = "none";\n/* an old setting:\norder = 2;\n*/\n'
+                        "real unused = 1; // order = 2;\n")
+    p = run_scene(scene, tmp_path / "out", ["-progress", "0"])
+    assert ", P1" in p.stdout.splitlines()[0]
+
+
+def test_scene_snapshot_beyond_t_says_it_comes_from_the_scene(tmp_path, earlier_run):
+    scene = write_scene(tmp_path, "snaps", 'snapshots = "5,30";\n')
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-T", "10", "-progress", "0"])
+    assert p.returncode == 3 and error_lines(p) == [
+        "error: -snapshots must be in [0, T] = [0, 10] (the scene's snapshots list; give -snapshots on the command line to "
+        "change it), got 30"], p.stderr
+    assert not changed
 
 
 def test_non_finite_step_stops_the_run(tmp_path):
@@ -244,6 +358,30 @@ def test_make_run_writes_its_own_directory_and_needs_no_test_packages():
     assert "pytest" not in p.stdout and "matplotlib" not in p.stdout
     p = subprocess.run(["make", "-n", "-B", "test1"], cwd=ROOT, capture_output=True, text=True)
     assert "results/test1" in p.stdout
+
+
+def test_make_run_builds_only_its_mesh_and_a_gmsh_error_is_one_line(tmp_path):
+    """Issue 19: every make run built every meshes/*.geo, so one broken .geo there broke unrelated runs
+    (exit 2 and gmsh's whole log). make run now builds only the mesh its run uses; building the
+    broken one fails with one line that quotes gmsh's error."""
+    broken = os.path.join(ROOT, "meshes", "zz_test_broken.geo")
+    try:
+        with open(broken, "w") as f:
+            f.write("Point(1)={0,0,0,1};\nLine(1)={1,7};\n")
+        p = subprocess.run(["make", "--no-print-directory", "run", "SCENE=test1", f"OUT={tmp_path / 'out'}",
+                            "ARGS=-T 0.1 -progress 0 -snapshots none"], cwd=ROOT, capture_output=True, text=True,
+                           env=dict(os.environ, FORCE="1"))
+        assert p.returncode == 0 and "zz_test_broken" not in p.stdout + p.stderr, p.stdout + p.stderr
+        p = subprocess.run(["make", "--no-print-directory", "meshes/zz_test_broken.msh"], cwd=ROOT, capture_output=True,
+                           text=True)
+        errors = [line for line in p.stderr.splitlines() if line.startswith("error:")]
+        assert p.returncode != 0 and len(errors) == 1, p.stderr
+        assert "gmsh could not mesh meshes/zz_test_broken.geo: Error   : Unknown control point 7" in errors[0]
+        assert not os.path.exists(os.path.join(ROOT, "meshes", "zz_test_broken.msh"))
+    finally:
+        for suffix in (".geo", ".msh", ".msh.log"):
+            if os.path.exists(broken[:-4] + suffix):
+                os.remove(broken[:-4] + suffix)
 
 
 def test_unwritable_output_directory(tmp_path):

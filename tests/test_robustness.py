@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import RUN, error_lines, files_of, refused_into_copy, run_scene
+from conftest import RUN, error_lines, files_of, refused_into_copy, run_scene, square_mesh
 from history import read_run
 
 SHORT = ["-progress", "0", "-vtk", "0"]
@@ -73,6 +73,16 @@ def corrupt(path, how):
         lines = text.split("\n")
         lines[3] = lines[3].replace(lines[3].split()[1], "1.2.3", 1)
         text = "\n".join(lines)
+    elif how == "cut mid-number":          # issue 19: said "'-' is not a finite number"
+        text = text[:text.index("\n", len(text) // 2) + 3]
+    elif how == "a hand-edited value":     # issue 19: one u value set to 1234.5 was taken (energy 6.3 -> 7.9e7)
+        lines = text.split("\n")
+        fields = lines[2].split("\t")
+        fields[1] = "1234.5"
+        lines[2] = "\t".join(fields)
+        text = "\n".join(lines)
+    elif how == "an edited -fy":           # (damages parameters.txt: see test_refused_restart_...)
+        pass
     elif how == "an overflowing header":
         head, rest = text.split("\n", 1)
         fields = head.split()
@@ -100,6 +110,10 @@ REFUSED = [
     (["-T", "20", "-probes", "0,40"], None, "-probes 0,40 differs from the run's -probes none"),
     (["-T", "20", "-lambda", "31"], None, "-lambda 31 differs from the run's -lambda 30"),
     (["-T", "20", "-solver", "activeset"], None, "-solver activeset differs from the run's -solver ipopt"),
+    # issue 19: the material is named first, not a solver that follows from it
+    (["-T", "20", "-material", "svk"], None, "-restart: -material svk differs from the run's -material linear"),
+    (["-T", "20", "-reference", "5,5"], None, "-restart: -reference 5,5 names the vertex at (4.82535, 5.12991), not the run's "
+                                              "reference vertex at (0, 0)"),
     (["-T", "20", "-mesh", "meshes/disk_coarse.msh"], None,
      "its checkpoint is for a mesh with 989 vertices and 1864 triangles; -mesh meshes/disk_coarse.msh has 277 and 496"),
     (["-T", "20", "-snapshots", "3"], None, "-snapshots 3 is before the checkpoint (t = 10), and the run did not write it"),
@@ -107,6 +121,11 @@ REFUSED = [
     (["-T", "20"], "truncated", "checkpoint.txt is truncated (no end marker)"),
     (["-T", "20"], "a corrupt number", "checkpoint.txt is corrupt: '1.2.3' is not a finite number"),
     (["-T", "20"], "an overflowing header", "checkpoint.txt header field 5 is not a finite number ('1e999')"),
+    (["-T", "20"], "cut mid-number", "checkpoint.txt is truncated (no end marker)"),
+    (["-T", "20"], "a hand-edited value", "its checkpoint.txt was changed after the run wrote it (its checksum does not match "
+                                          "its values)"),
+    (["-T", "20"], "an edited -fy", "its parameters.txt was changed after the run wrote it (its checksum does not match "
+                                    "the checkpoint's)"),
 ]
 
 
@@ -115,13 +134,49 @@ REFUSED = [
 def test_refused_restart_leaves_the_run_byte_identical(tmp_path, finished, args, damage, message):
     out = tmp_path / "run"
     shutil.copytree(finished, out)
-    if damage:
+    if damage == "an edited -fy":
+        text = (out / "parameters.txt").read_text()
+        (out / "parameters.txt").write_text(text.replace("\n-fy -0.10000000000000001\n", "\n-fy -0.2\n"))
+        assert text != (out / "parameters.txt").read_text()
+    elif damage:
         corrupt(out / "checkpoint.txt", damage)
     before = files_of(out)
     p = run_scene("test1", out, ["-restart", str(out)] + args, check=False)
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
     assert files_of(out) == before, "the refused restart changed the run's files"
+
+
+def test_restart_on_the_same_nodes_with_other_labels_is_refused(tmp_path):
+    """Issue 19: a unit square meshed with Gamma_C (label 1) on its bottom, run, re-meshed in place with
+    label 1 on its top (the same nodes), restarted: it ran on with the body inside the foundation.
+    The checkpoint's fingerprint now covers the triangles and the boundary labels: exit 3, one line."""
+    msh, out = tmp_path / "square.msh", tmp_path / "run"
+
+    def mesh(contact, free):
+        square_mesh(msh, f"Physical Curve(1)={{{contact}}};Physical Curve(2)={{{free}}};", side=10, size=2)
+    mesh("1", "2,3,4")
+    run_scene("test1", out, ["-mesh", str(msh), "-T", "1", "-checkpoint_every", "10", "-snapshots", "none"] + SHORT)
+    nodes = open(msh).read().split("$Elements")[0]
+    mesh("3", "1,2,4")
+    assert open(msh).read().split("$Elements")[0] == nodes           # the same nodes
+    before = files_of(out)
+    p = run_scene("test1", out, ["-restart", str(out), "-T", "2"], check=False)
+    assert p.returncode == 3 and error_lines(p) == [f"error: -restart {out}: the mesh (-mesh {msh}) is not the one the run used "
+                                                    "(the same vertices, other triangles or boundary labels)"], p.stderr
+    assert files_of(out) == before
+
+
+def test_restart_accepts_the_reference_it_was_given(tmp_path, finished):
+    """Issue 19: a run's -reference is recorded as its node's coordinates; a restart given the original
+    -reference 0.3,0.2 (whose nearest vertex is (0, 0)) or -reference auto names the same node, and
+    continues (before, both were refused as differing from -reference 0,0)."""
+    out = tmp_path / "run"
+    shutil.copytree(finished, out)
+    run_scene("test1", out, ["-restart", str(out), "-T", "10.5", "-reference", "0.3,0.2"])
+    run_scene("test1", out, ["-restart", str(out), "-T", "11", "-reference", "auto"])
+    h = read_run(str(out))
+    assert h["t"][-1] == 11 and (h["step"] == np.arange(221)).all()
 
 
 @pytest.mark.parametrize("how,message", [

@@ -5,7 +5,8 @@
 # silent with exit 0 for a mesh that gmshload can read: ASCII MSH 2.2, complete
 # $Nodes and $Elements sections, finite coordinates, elements of type 15 (point),
 # 1 (2-node line) or 2 (3-node triangle) on existing nodes, at least one triangle,
-# and every triangle counter-clockwise with a positive area.
+# every triangle counter-clockwise with a positive area, every node in a triangle,
+# and every node in one plane z = const (a 2D mesh).
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
 BEGIN {
   section = ""
@@ -46,21 +47,33 @@ section == "Nodes" {
     fail("line " NR " in $Nodes is not 'id x y z': '" substr($0, 1, 60) "'")
   if (!isfinite($2) || !isfinite($3)) fail("node " $1 " has a coordinate that is not a finite number")
   if ($1 in X) fail("node " $1 " is defined twice")
-  X[$1] = $2 + 0; Y[$1] = $3 + 0; read++
+  X[$1] = $2 + 0; Y[$1] = $3 + 0; read++; nodeId[++nNodes] = $1
+  if (!isfinite($4)) fail("node " $1 " has a coordinate that is not a finite number")
+  if (read == 1 || $4 + 0 < zmin) zmin = $4 + 0
+  if (read == 1 || $4 + 0 > zmax) zmax = $4 + 0
+  if (read == 1 || $2 + 0 < xmin) xmin = $2 + 0
+  if (read == 1 || $2 + 0 > xmax) xmax = $2 + 0
+  if (read == 1 || $3 + 0 < ymin) ymin = $3 + 0
+  if (read == 1 || $3 + 0 > ymax) ymax = $3 + 0
   next
 }
 section == "Elements" {
   for (i = 1; i <= NF; i++) if (!isint($i)) fail("line " NR " in $Elements is not a list of integers: '" substr($0, 1, 60) "'")
   type = $2 + 0; ntags = $3 + 0
   nodes = (type == 15) ? 1 : (type == 1) ? 2 : (type == 2) ? 3 : -1
+  if (type == 4 || type == 5 || type == 6 || type == 7 || type == 11 || type == 12 || type == 13 || type == 14 || type == 17 || type == 18 || type == 19 || type == 29)
+    fail("a 3D mesh: element " $1 " is a volume element (type " type "); the suite takes 2D meshes of triangles (gmsh -2)")
   if (nodes < 0) fail("element " $1 " has type " type "; only points (15), 2-node lines (1) and 3-node triangles (2) are supported")
   if (NF != 3 + ntags + nodes) fail("element " $1 " (line " NR ") has " NF " fields, its type and tags need " 3 + ntags + nodes)
   for (i = NF - nodes + 1; i <= NF; i++) if (!($i in X)) fail("element " $1 " uses node " $i ", which $Nodes does not define")
+  if (type == 15) pointElement[$NF] = $1
   if (type == 2) {
     a = $(NF - 2); b = $(NF - 1); c = $NF
+    inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1
     area = ((X[b] - X[a]) * (Y[c] - Y[a]) - (X[c] - X[a]) * (Y[b] - Y[a])) / 2
     scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
-    if (area < 0) fail("triangle " $1 " is inverted (clockwise, area " area "); FreeFEM needs counter-clockwise triangles")
+    if (area < 0 && !firstInverted) { firstInverted = $1; firstInvertedArea = area }
+    if (area < 0) { inverted++; triangles++; read++; next }
     if (!(area > 1e-12 * scale)) fail("triangle " $1 " is degenerate (area " area ")")
     if (area < 1e-8) fail("triangle " $1 " has an area of " area ", below the 1e-8 that FreeFEM's gmshload accepts; scale the mesh up")
     triangles++
@@ -77,4 +90,14 @@ END {
   if (!done["Nodes"]) fail("no $Nodes section")
   if (!done["Elements"]) fail("no $Elements section")
   if (!triangles) fail("no triangles (element type 2)")
+  if (inverted == triangles)
+    fail("every triangle is clockwise: the body's curve loop is drawn clockwise in its .geo; reverse it (for example Curve Loop(1) = {-4, -3, -2, -1}; instead of {1, 2, 3, 4}), or add Reverse Surface{1};")
+  if (inverted) fail("triangle " firstInverted " is inverted (clockwise, area " firstInvertedArea "); FreeFEM needs counter-clockwise triangles")
+  size = (xmax - xmin) + (ymax - ymin)
+  if (zmax - zmin > 1e-9 * size)
+    fail("a 3D mesh: its nodes span z from " zmin " to " zmax ", not one plane; the suite takes 2D meshes (gmsh -2 of a plane geometry)")
+  for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
+    if (k in pointElement) fail("node " k " (at " X[k] ", " Y[k] ") of the point element " pointElement[k] " (a gmsh Physical Point) is in no triangle: the point is off the body; move it onto the body or remove it")
+    fail("node " k " (at " X[k] ", " Y[k] ") is in no triangle: an orphan node, which would make the system singular; remove it from the mesh")
+  }
 }

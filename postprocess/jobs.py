@@ -1,0 +1,99 @@
+"""The runs of the make targets (svk, methods, csm3, stress, bench, accuracy): started one by one
+or in parallel, and stopped whole by Ctrl-C.
+
+- `run(cmd)` is subprocess.run(cmd, capture_output=True, text=True) with the run in its own
+  process group, registered while it lasts; `start(cmd)` and `finished(p)` do the same around
+  a Popen (bench.py, which reads the run's resource usage).
+- `stop_on_interrupt(target, out, stale)`, called first by a target's main: it removes the files
+  that summarise an earlier run of the target (`stale`, globs in `out`), so that a target stopped
+  half-way never leaves a summary or figure that looks current beside new, partial runs. On
+  Ctrl-C (SIGINT) or SIGTERM it interrupts every registered run's process group (SIGINT, as a
+  terminal would, then SIGKILL after 5 s), drops the queued runs, prints one line and exits 130.
+- `run_parallel(fn, items, jobs)`: fn(item) for each item, `jobs` at a time, results in the order
+  they finish (a generator); an exception of fn stops the queue and is raised.
+"""
+import concurrent.futures
+import glob
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+_running = set()
+_lock = threading.Lock()
+_stopping = threading.Event()
+
+
+class Interrupted(Exception):
+    pass
+
+
+def start(cmd, **kwargs):
+    """subprocess.Popen(cmd, **kwargs) in its own process group, registered until finished(p)."""
+    if _stopping.is_set():
+        raise Interrupted()
+    p = subprocess.Popen(cmd, start_new_session=True, **kwargs)
+    with _lock:
+        _running.add(p)
+    return p
+
+
+def finished(p):
+    with _lock:
+        _running.discard(p)
+    if _stopping.is_set():
+        raise Interrupted()
+
+
+def run(cmd, **kwargs):
+    p = start(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
+    try:
+        out, err = p.communicate()
+    finally:
+        finished(p)
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
+def _signal_groups(sig):
+    with _lock:
+        procs = list(_running)
+    for p in procs:
+        try:
+            os.killpg(p.pid, sig)
+        except (ProcessLookupError, PermissionError):
+            pass
+    return procs
+
+
+def stop_on_interrupt(target, out, stale):
+    for pattern in stale:
+        for path in glob.glob(os.path.join(out, pattern)):
+            os.remove(path)
+
+    def handler(signum, frame):
+        if _stopping.is_set():
+            return
+        _stopping.set()
+        procs = _signal_groups(signal.SIGINT)
+        deadline = time.time() + 5
+        while time.time() < deadline and any(p.poll() is None for p in procs):
+            time.sleep(0.05)
+        _signal_groups(signal.SIGKILL)
+        print(f"interrupted: {target} stopped, its runs killed; {out} holds no summary of this run "
+              f"(run {target} again)", file=sys.stderr, flush=True)
+        os._exit(130)
+
+    signal.signal(signal.SIGINT, handler)
+    signal.signal(signal.SIGTERM, handler)
+
+
+def run_parallel(fn, items, jobs):
+    ex = concurrent.futures.ThreadPoolExecutor(jobs)
+    futs = [ex.submit(fn, item) for item in items]
+    try:
+        for fut in concurrent.futures.as_completed(futs):
+            yield fut.result()
+    finally:
+        ex.shutdown(wait=True, cancel_futures=True)
