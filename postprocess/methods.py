@@ -1,7 +1,7 @@
 """`make methods`: the methods the paper measures itself against, side by side with its own
 (issue 17; docs/methods.md).
 
-Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of METHODS, two at a time, into
+Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of METHODS, --jobs at a time (2), into
 OUT/<test>/<method>/, and writes into OUT/:
   methods_<test>_low_point.png/pdf   u2 at the lowest point (shared axes) and alpha there (small multiples)
   methods_<test>_energy.png/pdf      energy and modified energy (shared axes)
@@ -181,20 +181,20 @@ def fmt(v, spec):
     return "-" if v != v else format(v, spec)
 
 
-def write_summary(rows, runs, out, wall):
+def write_summary(rows, runs, out, wall, jobs):
     with open(os.path.join(out, "table.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS)
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) for k in COLUMNS})
     L = ["# make methods: the methods of the paper's references beside its own", "",
-         f"Written by postprocess/methods.py ({len(rows)} runs to T = {T}, {wall:.0f} s wall, two at a time). "
+         f"Written by postprocess/methods.py ({len(rows)} runs to T = {T}, {wall:.0f} s wall, {jobs} at a time). "
          "First impact = the first contact interval of the lowest point's neighbourhood (any node active). "
          "Rebound = max u2 at the lowest point on [24, 40]. alpha osc. = RMS of the contact stress at the lowest point "
          "minus its centred moving average over 1.0, on [10, 23], at every step of the run; (0.05 grid) the same on the "
          "paper's step times only (every 5th step at dt = 0.01), so that methods with different dt compare. Energy change = modified energy at T minus at 0; "
          "largest gain = the largest one-step rise of the modified energy. ms/step = CPU time per step "
-         "(two runs at a time).", ""]
+         f"({jobs} runs at a time).", ""]
     for test in TESTS:
         L += [f"## {TESTS[test][2]}", "",
               "| method | first impact | rebound | alpha osc. | alpha osc. (0.05 grid) | max penetration | energy change | "
@@ -240,7 +240,7 @@ def main():
     rows = [metrics(runs[(t, m)]) for t in TESTS for m in METHODS]
     for test in TESTS:
         plot_test(runs, test, out)
-    print(write_summary(rows, runs, out, wall))
+    print(write_summary(rows, runs, out, wall, a.jobs))
     print(f"figures, table.csv and summary.md written to {out}/")
 
 

@@ -1,6 +1,6 @@
 """`make svk`: the St Venant-Kirchhoff body (-material svk) next to the linear one.
 
-Runs, two at a time, into OUT/<case>/<model>/ (model: linear, svk):
+Runs, --jobs at a time (2), into OUT/<case>/<model>/ (model: linear, svk):
   test1   Test 1, T = 45 (paper's lambda = mu = 30): svk is expected to collapse
           during the first impact (exit 4, an inverted triangle);
   test2   Test 2 with t1 = 18, T = 45: svk is expected to collapse likewise;
@@ -222,13 +222,13 @@ def status(res, m):
     return f"completed to T = {m['t_end']:g} ({m['steps']} steps)"
 
 
-def write_summary(runs, out, vm_times, wall):
+def write_summary(runs, out, vm_times, wall, jobs):
     L = ["# make svk: St Venant-Kirchhoff next to the linear body", "",
-         f"Written by postprocess/svk_compare.py ({len(runs)} runs, {wall:.0f} s wall, two at a time). "
+         f"Written by postprocess/svk_compare.py ({len(runs)} runs, {wall:.0f} s wall, {jobs} at a time). "
          "Compression = the largest shortening of the vertical diameter, u2(0, 0) - u2(0, 40), and the time it "
          "is reached. Max strain = the largest principal Green-Lagrange strain over the body and the run. "
          "Max von Mises = over the snapshots of the run (svk: of the Cauchy stress). Newton = iterations per step "
-         "(mean, max); the linear body is solved by the exact active-set solver. Wall s = the run's wall time, two runs at a time.", ""]
+         "(mean, max); the linear body is solved by the exact active-set solver. Wall s = the run's wall time, " + f"{jobs} runs at a time.", ""]
     for case in CASES:
         L += [f"## {case}: {CASES[case][2]}", ""]
         if case == "spin":
@@ -301,7 +301,7 @@ def main():
     plot_max_strain(runs, out, "svk_max_strain")
     plot_spin(runs, out, "svk_spin")
     plot_uniaxial(out, "svk_uniaxial")
-    print(write_summary(runs, out, vm_times, wall))
+    print(write_summary(runs, out, vm_times, wall, a.jobs))
     print(f"figures and summary.md written to {out}/")
 
 
