@@ -18,12 +18,14 @@ from history import read_csv, read_parameters, read_summary
 NEWTON_TOL = 1e-10      # -newton_tol default: |R + C'lm| relative to its terms
 
 
-def run_unit(seed, order=1):
-    """tests/edp/svk_unit.edp (P1) or svk_unit_p2.edp (P2) at a random state (a 1 rad rotation plus smooth fields)."""
+def run_unit(seed, order=1, material="svk", scale=None):
+    """tests/edp/<material>_unit.edp (P1) or <material>_unit_p2.edp (P2) at a random state (a 1 rad
+    rotation plus smooth fields of amplitude scale, 0.1 by default)."""
     env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++", FF_INCLUDEPATH="/usr/include/freefem++/idp")
-    script = "tests/edp/svk_unit.edp" if order == 1 else "tests/edp/svk_unit_p2.edp"
+    script = f"tests/edp/{material}_unit.edp" if order == 1 else f"tests/edp/{material}_unit_p2.edp"
     p = subprocess.run(["FreeFem++-nw", "-nw", "-ns", "-v", "0", script, "-mesh", "meshes/disk.msh",
-                        "-seed", str(seed)], cwd=ROOT, capture_output=True, text=True, env=env)
+                        "-seed", str(seed)] + (["-scale", str(scale)] if scale else []), cwd=ROOT, capture_output=True,
+                       text=True, env=env)
     assert p.returncode == 0, p.stdout + p.stderr
     values = {}
     for line in p.stdout.splitlines():
