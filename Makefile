@@ -71,6 +71,7 @@ meshes/%_refine8.msh: REFINE = 8
 define build_mesh
 	@echo "meshing $@ from $< (refine $(REFINE)) ..."
 	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
+	trap 'kill $$pid 2>/dev/null; rm -f $@ $@.log; exit 130' INT TERM; \
 	while kill -0 $$pid 2>/dev/null; do sleep 1; waited=$$((waited + 1)); \
 	  [ $$((waited % 30)) = 0 ] && echo "meshing $@: $$waited s ..."; done; \
 	if ! wait $$pid || [ ! -s $@ ]; then \

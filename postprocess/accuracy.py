@@ -474,8 +474,15 @@ def main():
     p.add_argument("--methods-only", action="store_true", help="run only the per-method part (methods.md)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    part = "p2" if a.p2_only else ("methods" if a.methods_only else "")
-    jobs.stop_on_interrupt("make accuracy", a.out, [f"{part}*.md", f"{part}*work_precision.png", f"{part}*work_precision.pdf"])
+    # what this invocation rewrites (--quick: only the main tables and figure)
+    if a.p2_only or a.methods_only:
+        part = "p2" if a.p2_only else "methods"
+        stale = [f"{part}.md", f"{part}_work_precision.png", f"{part}_work_precision.pdf"]
+    elif a.quick:
+        stale = ["table.md", "orders.md", "work_precision.png", "work_precision.pdf"]
+    else:
+        stale = ["*.md", "*work_precision.png", "*work_precision.pdf"]
+    jobs.stop_on_interrupt("make accuracy", a.out, stale)
     if a.p2_only:
         print("\n".join(p2_study(a.out, a.reuse)))
         print(f"written to {a.out}/")

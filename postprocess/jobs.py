@@ -22,8 +22,11 @@ import threading
 import time
 
 _running = set()
-_lock = threading.Lock()
+# re-entrant: the signal handler runs in the main thread, which may hold it (review: a plain Lock
+# deadlocked a Ctrl-C that landed while the main thread registered a run)
+_lock = threading.RLock()
 _stopping = threading.Event()
+_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 class Interrupted(Exception):
@@ -31,12 +34,21 @@ class Interrupted(Exception):
 
 
 def start(cmd, **kwargs):
-    """subprocess.Popen(cmd, **kwargs) in its own process group, registered until finished(p)."""
-    if _stopping.is_set():
-        raise Interrupted()
-    p = subprocess.Popen(cmd, start_new_session=True, **kwargs)
+    """subprocess.Popen(cmd, **kwargs) in its own process group, registered until finished(p).
+    Started and registered under the lock (the handler takes it too) and, in the main thread, with
+    SIGINT and SIGTERM held back until it is registered: a run is either killed by the handler or
+    never started, never left running outside its reach."""
+    main = threading.current_thread() is threading.main_thread()
     with _lock:
-        _running.add(p)
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS) if main else None
+        try:
+            if _stopping.is_set():
+                raise Interrupted()
+            p = subprocess.Popen(cmd, start_new_session=True, **kwargs)
+            _running.add(p)
+        finally:
+            if held is not None:
+                signal.pthread_sigmask(signal.SIG_SETMASK, held)
     return p
 
 

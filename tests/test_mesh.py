@@ -2,6 +2,7 @@
 defect refused with exit 3 and one line naming the file and the defect, before
 gmshload reads it (edp/lib/check_mesh.awk), with an earlier run byte-identical."""
 import os
+import subprocess
 
 import pytest
 
@@ -157,4 +158,20 @@ def test_mesh_without_contact_label(tmp_path, earlier_run):
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh)])
     assert p.returncode == 3 and p.stderr.strip() == (f"error: -mesh {msh} has no boundary edge with label 1 (Gamma_C, "
                                                       "-contact_label), and -foundation flat needs one; its labels are 2")
+    assert not changed
+
+
+def test_mesh_without_physical_groups_says_so(tmp_path, earlier_run):
+    """A .geo without Physical groups: gmsh saves every entity, the arc's centre among them, a point
+    in no triangle. Refused naming the cause (review: it was called a Physical Point off the body;
+    before issue 19 the run failed later with exit 5)."""
+    geo = tmp_path / "nophys.geo"
+    geo.write_text("".join(part.split("Physical")[0] if "Physical" in part else part
+                           for part in open(os.path.join(ROOT, "meshes", "disk.geo")).read().splitlines(True)))
+    msh = tmp_path / "nophys.msh"
+    subprocess.run(["gmsh", "-2", "-format", "msh22", str(geo), "-o", str(msh)], check=True, capture_output=True)
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh), "-T", "1"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert "is a geometric point in no physical group" in errors[0] and "add Physical Surface" in errors[0], errors[0]
     assert not changed

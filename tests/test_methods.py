@@ -337,3 +337,13 @@ def test_nitsche_active_set_failure_says_what_it_means(tmp_path):
     assert "the active set did not settle" in errors[0] and "a larger -nitsche_gamma0" in errors[0], errors[0]
     h = read_csv(os.path.join(tmp_path, "cycle", "history.csv"))
     assert len(h["t"]) > 10 and np.isfinite(h["energy"]).all()
+
+
+def test_nitsche_default_gamma0_is_stable_on_every_body(tmp_path):
+    """The default gamma0 is 1000 (the reference's, on the paper's disk, 8.3 C there), or 8 C where
+    that is larger: on the corner scene C = 1651.57, and 1000 was refused (review); the run records
+    the gamma0 it used, so a restart continues with it."""
+    out = tmp_path / "corner"
+    p = run_scene("corner", out, ["-contact", "nitsche", "-T", "1", "-progress", "0", "-snapshots", "none"])
+    assert "-nitsche_gamma0 is 8 C = 13212.6 on this body" in p.stdout
+    assert "-nitsche_gamma0 13212.57" in (out / "parameters.txt").read_text()

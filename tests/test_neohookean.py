@@ -19,3 +19,6 @@ def test_discrete_gradient_identity_tangent_and_linear_limit(seed, order, scale)
     assert v["identity"] < 1e-12, v
     assert v["tangent"] < 1e-6, v
     assert v["linear"] < 1e-12, v
+    # a mirrored state, det F = -1 but det C = 1 (found by review: the energy tested det C): W = infinity
+    # (1e300), and the force refuses it (status 1)
+    assert v["inverted"] == 1e300 and v["inverted_force"] == 1, v

@@ -247,11 +247,14 @@ def test_nan_foundation_during_the_run_stops_it(tmp_path):
     # the foundation went to -12)
     ("(-2 - 0.5 * t)", "0", [], "error: userFoundationPsi changes with t (at X1 = -30: -2 at t = 0, -2.5 at t = 1) but the "
                                 "scene does not declare it moving: add the line foundationMoving = 1; to the scene"),
+    # ... also when psi is back to its t = 0 value at T/2 and T (review: sin(pi t) with T = 2 passed)
+    ("(-2 + 1.5 * sin(pi * t))", "0", [], "error: userFoundationPsi changes with t (at X1 = -17.3205: -2 at t = 0, "
+                                         "-1.76535 at t = 0.05) but the scene does not declare it moving"),
     # case 5: psi' wrong only beyond X1 = 31, under this body's Gamma_C (a square on X1 in [36, 46]; it slid
     # uphill and ended 5.1 inside the foundation); before, psi' was checked on [-30, 30] only
     ("(X1 > 31 ? -2 + 0.1 * (X1 - 31) : -2)", "0", ["-mesh", "square"],
      "error: userFoundationDpsi is not the derivative of userFoundationPsi: at X1 = "),
-], ids=["t-dependent-fixed", "dpsi-wrong-under-gamma-c"])
+], ids=["t-dependent-fixed", "periodic-in-t-fixed", "dpsi-wrong-under-gamma-c"])
 def test_user_foundation_checked_where_and_when_it_is_used(tmp_path, earlier_run, psi, dpsi, args, message):
     if "square" in args:
         msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)

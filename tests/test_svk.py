@@ -32,6 +32,8 @@ def run_unit(seed, order=1, material="svk", scale=None):
         parts = line.split()
         if parts and parts[0] in ("tangent", "identity", "linear"):
             values[parts[0]] = float(parts[1])
+        if parts and parts[0] == "inverted":
+            values["inverted"], values["inverted_force"] = float(parts[1]), int(parts[2])
     return values
 
 

@@ -66,7 +66,7 @@ section == "Elements" {
   if (nodes < 0) fail("element " $1 " has type " type "; only points (15), 2-node lines (1) and 3-node triangles (2) are supported")
   if (NF != 3 + ntags + nodes) fail("element " $1 " (line " NR ") has " NF " fields, its type and tags need " 3 + ntags + nodes)
   for (i = NF - nodes + 1; i <= NF; i++) if (!($i in X)) fail("element " $1 " uses node " $i ", which $Nodes does not define")
-  if (type == 15) pointElement[$NF] = $1
+  if (type == 15) { pointElement[$NF] = $1; pointPhysical[$NF] = (ntags >= 1) ? $4 + 0 : 0 }
   if (type == 2) {
     a = $(NF - 2); b = $(NF - 1); c = $NF
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1
@@ -97,6 +97,7 @@ END {
   if (zmax - zmin > 1e-9 * size)
     fail("a 3D mesh: its nodes span z from " zmin " to " zmax ", not one plane; the suite takes 2D meshes (gmsh -2 of a plane geometry)")
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
+    if ((k in pointElement) && pointPhysical[k] == 0) fail("node " k " (at " X[k] ", " Y[k] ") is a geometric point in no physical group (element " pointElement[k] ", e.g. an arc's centre) and in no triangle: the .geo defines no Physical groups, so gmsh saved every entity; add Physical Surface and Physical Curve lines to it")
     if (k in pointElement) fail("node " k " (at " X[k] ", " Y[k] ") of the point element " pointElement[k] " (a gmsh Physical Point) is in no triangle: the point is off the body; move it onto the body or remove it")
     fail("node " k " (at " X[k] ", " Y[k] ") is in no triangle: an orphan node, which would make the system singular; remove it from the mesh")
   }
