@@ -100,6 +100,8 @@ REFUSED = [
     (["-T", "20", "-probes", "0,40"], None, "-probes 0,40 differs from the run's -probes none"),
     (["-T", "20", "-lambda", "31"], None, "-lambda 31 differs from the run's -lambda 30"),
     (["-T", "20", "-solver", "activeset"], None, "-solver activeset differs from the run's -solver ipopt"),
+    # the material is compiled as the command line says, and the restart refuses it
+    (["-T", "20", "-material", "svk", "-solver", "newton"], None, "-material svk differs from the run's -material linear"),
     (["-T", "20", "-mesh", "meshes/disk_coarse.msh"], None,
      "its checkpoint is for a mesh with 989 vertices and 1864 triangles; -mesh meshes/disk_coarse.msh has 277 and 496"),
     (["-T", "20", "-snapshots", "3"], None, "-snapshots 3 is before the checkpoint (t = 10), and the run did not write it"),
