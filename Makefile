@@ -14,7 +14,7 @@ ARGS ?=
 JOBS ?= 2
 T1_VALUES := 18 22 26
 
-EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh)
+EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)
 RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh

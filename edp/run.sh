@@ -106,10 +106,11 @@ rm -rf "$stage"
 if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
   cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 fi
-# The finite elements are fixed when FreeFEM compiles the driver, so the order is read
-# here, as the driver will read it: the scene's line `order = N;`, the restarted run's
-# parameters.txt, then -order on the command line. contact.edp checks that it agrees.
-order=1
+# The finite elements and the material are fixed when FreeFEM compiles the driver, so they are
+# read here, as the driver will read them: the scene's lines `order = N;` and `material = "NAME";`,
+# the restarted run's parameters.txt, then -order and -material on the command line.
+# contact.edp checks that they agree. A run compiles only its material's file.
+order=1 material=linear     # (parameters.idp's defaults)
 # the scene without its comments (// to the end of a line, /* ... */ across lines), as FreeFEM reads it
 scene_code() {
   awk '{ line = $0; out = ""
@@ -123,14 +124,35 @@ scene_code() {
 }
 scene_order=$(scene_code | sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' | tail -n 1)
 [ -n "$scene_order" ] && order=$scene_order
-[ -n "$restart_dir" ] && order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
-for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do [ "${args[i]}" = "-order" ] && order=${args[i + 1]}; done
+scene_material=$(scene_code | sed -n 's/^[[:space:]]*material[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/=\1/p' | tail -n 1)
+[ -n "$scene_material" ] && material=${scene_material#=}
+if [ -n "$restart_dir" ]; then
+  order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
+  grep -q '^-material ' "$restart_dir/parameters.txt" && material=$(sed -n 's/^-material //p' "$restart_dir/parameters.txt" | tail -n 1)
+fi
+for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
+  case "${args[i]}" in
+    -order) order=${args[i + 1]} ;;
+    -material) material=${args[i + 1]} ;;
+  esac
+done
 # as an integer (02 is 2); not one: 0, and the driver refuses -order itself
 if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 fe=P1
 [ "$order" = 2 ] && fe=P2
-printf '// written by edp/run.sh: the order the driver is compiled for\nint compiledOrder = %s;\nfunc Pk = %s;\n' \
-  "$order" "$fe" > "$stage/order.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+# the materials: edp/lib/materials.txt, one line each (NAME, then how this error names it);
+# -material NAME is edp/lib/material_NAME.idp
+materials=$here/lib/materials.txt
+if ! MATERIAL=$material awk '!/^#/ && NF && $1 == ENVIRON["MATERIAL"] { found = 1 } END { exit !found }' "$materials"; then
+  choices=$(awk '!/^#/ && NF { e = $1; if (NF > 1) { t = $0; sub(/^[ \t]*[^ \t]+[ \t]+/, "", t); e = e " (" t ")" } a[n++] = e }
+                 END { s = a[0]; for (i = 1; i < n; i++) s = s (i == n - 1 ? " or " : ", ") a[i]; print s }' "$materials")
+  err "-material must be $choices; got '$material'"
+fi
+[ -f "$here/lib/material_$material.idp" ] || err "edp/lib/materials.txt lists -material $material, but edp/lib/material_$material.idp is missing" 1
+{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\n' \
+    "$order" "$fe" "$material" > "$stage/compiled.idp" &&
+  printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/material_%s.idp"\n' \
+    "$material" "$material" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
 cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
 # no banner
@@ -141,7 +163,8 @@ OPT
 
 # ---- FreeFEM, in the staging directory (commit.sh moves it on into OUT)
 export FF_LOADPATH=/usr/lib/freefem++
-export FF_INCLUDEPATH="$stage;/usr/include/freefem++/idp"
+# (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp)
+export FF_INCLUDEPATH="$stage;$here;/usr/include/freefem++/idp"
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
 # FreeFEM writes everything to stdout. The filter keeps the driver's own lines
 # ("error:" and "warning:" ones go to stderr) and drops FreeFEM's traces, keeping

@@ -119,6 +119,11 @@ RUNS.update({
     "cantilever_lumped": ("cantilever", ["-T", "10", "-mass", "lumped", "-solver", "activeset", "-probes", "0,1.5,10,1.5",
                                          "-snapshots", "5"]),
 })
+# the Neo-Hookean body (issue 18): the paper's Test 1 past SVK's collapse at t = 16.8, and a spinning free flight
+RUNS.update({
+    "neohookean_test1": ("test1", ["-material", "neohookean", "-T", "30", "-snapshots", "15.25"]),
+    "neohookean_spin": ("spin", ["-material", "neohookean", "-snapshots", "none"]),
+})
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)
 for _s in SMALL_LOADS:

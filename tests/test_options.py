@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, error_lines, files_of, refused_into_copy, run_scene, square_mesh
-from history import read_run
+from history import read_run, read_summary
 
 BAD = [
     # ranges
@@ -24,7 +24,7 @@ BAD = [
     (["-skip_free", "1.5"], "-skip_free must be an integer in [0, 1]"),
     (["-solver", "magic"], "-solver must be ipopt or activeset"),
     (["-factorization", "qr"], "-factorization must be cholesky or lu"),
-    (["-material", "neo-hookean"], "-material must be linear or svk"),
+    (["-material", "neo-hookean"], "-material must be linear, svk (St Venant-Kirchhoff) or neohookean (Neo-Hookean); got 'neo-hookean'"),
     (["-material", "svk", "-solver", "ipopt"], "-solver ipopt does not apply to -material svk"),
     (["-material", "svk", "-solver", "activeset"], "-solver activeset does not apply to -material svk"),
     (["-solver", "newton"], "-solver must be ipopt or activeset for -material linear"),
@@ -182,6 +182,61 @@ def test_scene_that_fails_when_evaluated_is_one_line(tmp_path, earlier_run):
     assert p.returncode == 1 and len(errors) == 1 and "Out of bound" in errors[0] and "if the scene is your own" in errors[0]
     assert all(line.startswith(("mesh ", "reference point: ", "note: ")) for line in p.stdout.splitlines()), p.stdout
     assert not changed
+
+
+def test_material_is_the_scenes_unless_the_command_line_says_otherwise(tmp_path):
+    """FreeFEM compiles one material's file, so edp/run.sh reads -material as it reads -order:
+    the scene's line `material = "svk";`, then -material on the command line."""
+    scene = write_scene(tmp_path, "svkscene", 'material = "svk";\nT = 0.1;\nsnapshots = "none";\n')
+    for args, material in [([], "svk"), (["-material", "linear"], "linear")]:
+        out = tmp_path / material
+        run_scene(scene, out, ["-progress", "0"] + args)
+        summary = read_summary(str(out))
+        assert summary["material"] == material and (int(summary["newton_iterations"]) > 0) == (material == "svk")
+        assert f"-material {material}\n" in (out / "parameters.txt").read_text()
+
+
+@pytest.mark.parametrize("text,message", [
+    ('material = "neo-hookean";\n', "-material must be linear, svk (St Venant-Kirchhoff) or neohookean (Neo-Hookean); got 'neo-hookean'"),
+    ('string m = "svk";\nmaterial = m;\n', "-material svk is set in a way edp/run.sh cannot read before FreeFEM compiles "
+                                           "the driver; write it in the scene as a line `material = \"svk\";`"),
+], ids=["not in the table", "unreadable"])
+def test_scene_material_not_in_the_table_or_unreadable_is_refused(tmp_path, earlier_run, text, message):
+    scene = write_scene(tmp_path, "material", text + 'T = 0.1;\nsnapshots = "none";\n')
+    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
+    assert not changed
+
+
+def test_every_material_of_the_table_has_its_file():
+    """edp/lib/materials.txt and the files edp/lib/material_NAME.idp agree (docs/internals.md,
+    "Adding a material")."""
+    lib = os.path.join(ROOT, "edp", "lib")
+    table = [line.split()[0] for line in open(os.path.join(lib, "materials.txt"))
+             if line.strip() and not line.startswith("#")]
+    files = sorted(f[len("material_"):-len(".idp")] for f in os.listdir(lib) if f.startswith("material_") and f.endswith(".idp"))
+    assert "linear" in table and sorted(table) == files      # (linear: the default of parameters.idp and run.sh)
+
+
+def test_a_run_compiles_only_its_material(tmp_path):
+    """A run pays only for what it asks for: -material linear compiles neither material_svk.idp
+    nor newton_solver.idp, and -material svk not material_linear.idp. In a copy of edp/ whose
+    other files are broken, each material still runs."""
+    shutil.copytree(os.path.join(ROOT, "edp"), tmp_path / "edp")
+    os.symlink(os.path.join(ROOT, "meshes"), tmp_path / "meshes")
+    lib = tmp_path / "edp" / "lib"
+    for material, others in [("linear", ["material_svk.idp", "material_neohookean.idp", "newton_solver.idp"]),
+                             ("svk", ["material_linear.idp", "material_neohookean.idp"]),
+                             ("neohookean", ["material_linear.idp", "material_svk.idp"])]:
+        kept = {f: (lib / f).read_text() for f in others}
+        for f in others:
+            (lib / f).write_text("this is not FreeFEM;\n")
+        p = subprocess.run([str(tmp_path / "edp" / "run.sh"), "test1", str(tmp_path / material), "-material", material,
+                            "-T", "0.1", "-progress", "0", "-snapshots", "none"], capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        for f, text in kept.items():
+            (lib / f).write_text(text)
 
 
 def test_scene_mesh_is_used(tmp_path):
