@@ -51,7 +51,7 @@ def run_case(out_base, name, scene, args):
     finally:
         jobs.finished(p)
     wall = time.perf_counter() - t0
-    if os.waitstatus_to_exitcode(status) != 0:
+    if p.returncode != 0:
         sys.exit(f"bench case {name} failed:\n{log}")
     h = read_run(out)
     summary = read_summary(out)
