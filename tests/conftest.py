@@ -119,15 +119,24 @@ RUNS.update({
     "cantilever_lumped": ("cantilever", ["-T", "10", "-mass", "lumped", "-solver", "activeset", "-probes", "0,1.5,10,1.5",
                                          "-snapshots", "5"]),
 })
-# the Neo-Hookean body (issue 18): the paper's Test 1 past SVK's collapse at t = 16.8, and a spinning free flight
+# the Neo-Hookean body (issue 18): the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
+# a spinning free flight, its dt-convergence, f = 0 impacts, P2
+NH = ["-material", "neohookean"]
+NH_SPIN_DTS = ("0.1", "0.05", "0.025")
 RUNS.update({
-    "neohookean_test1": ("test1", ["-material", "neohookean", "-T", "30", "-snapshots", "15.25"]),
-    "neohookean_spin": ("spin", ["-material", "neohookean", "-snapshots", "none"]),
+    "neohookean_test1": ("test1", NH + ["-T", "120", "-snapshots", "15.25"]),
+    **{f"neohookean_test2_t1_{t1}": ("test2", NH + ["-T", "120", "-t1", t1, "-snapshots", "none"]) for t1 in ("18", "22", "26")},
+    "neohookean_spin": ("spin", NH + ["-snapshots", "none"]),
+    **{f"neohookean_spin_dt{dt}": ("spin", NH + ["-dt", dt, "-T", "10", "-snapshots", "none", "-probes", "0,40,20,20"])
+       for dt in NH_SPIN_DTS},
+    "neohookean_f0_fixed": ("test1", NH + ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "20"]),
+    "neohookean_f0_falling": ("test2", NH + ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-t0", "2", "-t1", "8", "-T", "20"]),
+    "p2_coarse_neohookean": ("test1", NH + ["-order", "2", "-T", "14", "-mesh", COARSE]),
 })
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)
 for _s in SMALL_LOADS:
-    for _m in ("svk", "linear"):
+    for _m in ("svk", "neohookean", "linear"):
         RUNS[f"rest_{_m}_{_s}"] = ("test1", ["-material", _m, "-u0y", "0", "-fy", f"{-0.1 * _s:g}", "-T", "10",
                                              "-probes", "0,40"] + (["-solver", "activeset"] if _m == "linear" else []))
 # the fast subset of make stress (postprocess/stress.py)
