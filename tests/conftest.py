@@ -133,6 +133,10 @@ RUNS.update({
     "neohookean_f0_falling": ("test2", NH + ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-t0", "2", "-t1", "8", "-T", "20"]),
     "p2_coarse_neohookean": ("test1", NH + ["-order", "2", "-T", "14", "-mesh", COARSE]),
 })
+# every other scene with the Neo-Hookean body, on short horizons (scene: options)
+NH_SCENES = {"bump": ["-T", "30"], "cantilever": ["-T", "10"], "corner": [], "csm3": ["-T", "0.5"], "freeflight": [],
+             "incline": ["-T", "10"], "oblique": ["-T", "15"], "ring": [], "rising": ["-T", "20"], "wave": ["-T", "25"]}
+RUNS.update({f"neohookean_scene_{scene}": (scene, NH + ["-snapshots", "none"] + args) for scene, args in NH_SCENES.items()})
 # the small-strain limit: the disk resting on the foundation under a load scaled by s
 SMALL_LOADS = (0.4, 0.2, 0.1)
 for _s in SMALL_LOADS:
