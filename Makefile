@@ -132,7 +132,7 @@ accuracy: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
 stress: meshes meshes/disk_refine4.msh | deps-plot
 	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress
 
-# ---- St Venant-Kirchhoff next to the linear body (see postprocess/svk_compare.py); results/svk/summary.md
+# ---- linear, St Venant-Kirchhoff and Neo-Hookean bodies side by side (postprocess/svk_compare.py); results/svk/summary.md
 svk: meshes | deps-plot
 	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk --jobs $(JOBS)
 
