@@ -13,13 +13,17 @@ ratios asked for:
     Test 1 (lambda = mu = 300, to --T); Newton iterations per step and GMRES
     iterations per Newton iteration from the runs' summary.txt, and the aim
     "SVK Test 1 at most 20x the linear active-set wall time";
+  - the Neo-Hookean body (-material neohookean) beside SVK on the same cases (Test 1
+    to T = 16, the stiff Test 1, P2 to T = 16), and on the paper's Test 1 to --T; the
+    aim "a Neo-Hookean step at most 1.5x an SVK step on Test 1" (--nh-only: these
+    material rows alone, SVK and Neo-Hookean alternated run by run);
   - every method of make methods (penalty, Nitsche, singular and lumped mass,
     Newmark, explicit Verlet) on Test 1: ms per step and wall time against
     the paper's method.
 Cases run one at a time, so they do not compete for the 2 cores. A case that
 takes less than 10 s is run --repeat times and its median kept (the spread is
 reported), so the ratios of short runs are not one noisy sample. Writes
-results/bench/bench.md and bench.csv.
+results/bench/bench.md and bench.csv (--nh-only: bench_neohookean.md and .csv).
 """
 import argparse
 import os
