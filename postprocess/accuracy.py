@@ -37,7 +37,13 @@ mesh at dt = 0.1, 0.05, 0.025, 0.0125 (explicit Verlet: 0.01, 0.005, 0.0025), ea
 the same method at a 4x smaller dt than its finest (its time error) and against the paper's
 method's such run (the model difference), versus wall time; for explicit Verlet the least
 wall time of a stable run, T / dt_c steps at its measured cost per step.
-Writes results/accuracy/table.csv, table.md, orders.md, svk.md, work_precision.png/pdf,
+The Neo-Hookean body (-material neohookean, nh.md; --nh-only: that part alone, with the linear and
+SVK runs it needs), on the paper's mesh: the model differences Neo-Hookean - linear and Neo-Hookean
+- SVK at the same dt (0.0125 and 0.05) on the SVK study's two cases (Test 1 on t <= 15, top vertex;
+the stiff Test 1 to T = 40), and Neo-Hookean - linear on Test 1 to T = 40 with the paper's body (which
+the Neo-Hookean body runs through); its own dt error beside the linear one; its observed order in dt
+(dt = 0.1, 0.05, 0.025 against 0.0125) on the spin scene (no contact), the stiff Test 1 and Test 1.
+Writes results/accuracy/table.csv, table.md, orders.md, svk.md, nh.md, work_precision.png/pdf,
 p2.md, p2_table.csv, p2_work_precision.png/pdf (--p2-only: the P2 part alone), methods.md,
 methods_table.csv, methods_work_precision.png/pdf (--methods-only: that part alone).
 """
@@ -91,6 +97,50 @@ def diff_until(h, ref, t_end, keys=("u2_low",)):
     return d.max(), np.sqrt(SAMPLE * (d ** 2).sum() / t_end)
 
 
+def run_material_cases(out, reuse, cases, part, have=None):
+    """Runs each case {name: (scene, T, args)} on the paper's mesh (unless args give -mesh), into out/name;
+    a case in `have` (name: run made in this invocation), or with --reuse a finished run already in out,
+    is not run again (its wall_s is then nan). Returns {name: run_case's dict, or the reused history}."""
+    runs = {}
+    for n, (name, (scene, t_end, args)) in enumerate(cases.items()):
+        if have and name in have:
+            runs[name] = {"history": have[name], "wall_s": float("nan")}
+            continue
+        d = os.path.join(out, name)
+        if reuse and os.path.exists(os.path.join(d, "summary.txt")):
+            h = read_run(d)
+            if abs(h["t"][-1] - t_end) < 1e-9:
+                runs[name] = {"history": h, "wall_s": float("nan")}
+                continue
+        print(f"accuracy {part} [{n + 1}/{len(cases)}]: {name}", flush=True)
+        extra = [] if "-mesh" in args else ["-mesh", MESHES["paper"][0]]
+        runs[name] = run_case(out, name, scene, ["-T", f"{t_end:g}"] + extra + args)
+    return runs
+
+
+def model_cases(prefix, material_args, dts):
+    """The runs of svk_study and nh_study's cases for one model: Test 1 on t <= SVK_WINDOW with the top
+    vertex as a probe (dt = 0.05, 0.0125) and the stiff Test 1 to T (dts)."""
+    cases = {f"{prefix}_test1_T15_top_dt{dt}": ("test1", SVK_WINDOW, material_args + ["-dt", str(dt), "-probes", "0,40"])
+             for dt in (0.05, 0.0125)}
+    cases.update({f"{prefix}_stiff_dt{dt}": ("test1", T, STIFF + material_args + ["-dt", str(dt)]) for dt in dts})
+    return cases
+
+
+def order_row(label, H, prefix, t_end, keys):
+    """A row of an observed-order table: self-convergence of H[prefix_dt..] against SVK_DTS[-1]."""
+    ref = H[f"{prefix}_dt{SVK_DTS[-1]}"]
+    errs = [diff_until(H[f"{prefix}_dt{dt}"], ref, t_end, keys) for dt in SVK_DTS[:-1]]
+    mx, l2 = [e[0] for e in errs], [e[1] for e in errs]
+    return (f"| {label} | {', '.join(f'{e:.2e}' for e in mx)} | {order(SVK_DTS[:-1], mx):.2f} | "
+            f"{', '.join(f'{e:.2e}' for e in l2)} | {order(SVK_DTS[:-1], l2):.2f} |")
+
+
+def wall_line(study, runs):
+    walls = {k: r["wall_s"] for k, r in runs.items() if np.isfinite(r["wall_s"])}     # not of runs reused
+    return f"Wall seconds of the {study} study's runs made now: " + ", ".join(f"{k} {v:.1f}" for k, v in walls.items())
+
+
 def svk_study(out, reuse, finest_mesh):
     """Model error (SVK against linear) and SVK's observed order in dt; returns the lines of svk.md."""
     paper = MESHES["paper"][0]
@@ -108,17 +158,7 @@ def svk_study(out, reuse, finest_mesh):
     for dt in SVK_DTS:
         cases[f"svk_stiff_dt{dt}"] = ("test1", T, STIFF + ["-material", "svk", "-dt", str(dt)])
         cases[f"svk_spin_dt{dt}"] = ("spin", 30.0, ["-material", "svk", "-dt", str(dt)])
-    runs = {}
-    for n, (name, (scene, t_end, args)) in enumerate(cases.items()):
-        d = os.path.join(out, name)
-        if reuse and os.path.exists(os.path.join(d, "summary.txt")):
-            h = read_run(d)
-            if abs(h["t"][-1] - t_end) < 1e-9:
-                runs[name] = {"history": h, "wall_s": float("nan")}
-                continue
-        print(f"accuracy svk [{n + 1}/{len(cases)}]: {name}", flush=True)
-        extra = [] if "-mesh" in args else ["-mesh", paper]
-        runs[name] = run_case(out, name, scene, ["-T", f"{t_end:g}"] + extra + args)
+    runs = run_material_cases(out, reuse, cases, "svk")
     H = {k: r["history"] for k, r in runs.items()}
     top = ("u2_probe0",)
 
@@ -154,13 +194,62 @@ def svk_study(out, reuse, finest_mesh):
     for label, prefix, t_end, keys in (
             ("spin (no contact, f = 0), T = 30, |u_low| (both components)", "svk_spin", 30.0, ("u1_low", "u2_low")),
             ("stiff Test 1 (contact from t = 8.95 to 14.2 and from 31.75), T = 40, u2_low", "svk_stiff", T, ("u2_low",))):
-        ref = H[f"{prefix}_dt{SVK_DTS[-1]}"]
-        errs = [diff_until(H[f"{prefix}_dt{dt}"], ref, t_end, keys) for dt in SVK_DTS[:-1]]
-        mx, l2 = [e[0] for e in errs], [e[1] for e in errs]
-        md.append(f"| {label} | {', '.join(f'{e:.2e}' for e in mx)} | {order(SVK_DTS[:-1], mx):.2f} | "
-                  f"{', '.join(f'{e:.2e}' for e in l2)} | {order(SVK_DTS[:-1], l2):.2f} |")
-    walls = {k: r["wall_s"] for k, r in runs.items() if np.isfinite(r["wall_s"])}     # not of runs --reuse kept
-    md += ["", "Wall seconds of the SVK study's runs made now: " + ", ".join(f"{k} {v:.1f}" for k, v in walls.items())]
+        md.append(order_row(label, H, prefix, t_end, keys))
+    md += ["", wall_line("SVK", runs)]
+    return md, H
+
+
+def nh_study(out, reuse, have=None):
+    """The Neo-Hookean body (-material neohookean) on the paper's mesh: the model differences
+    Neo-Hookean - linear and Neo-Hookean - SVK (at the same dt and mesh) on the cases of svk_study,
+    where SVK does not collapse, and on Test 1 to T = 40 with the paper's body (which the Neo-Hookean
+    body runs through, linear beside it); its observed order in dt (self-convergence against
+    dt = 0.0125) on the spin scene, the stiff Test 1 and Test 1. `have`: svk_study's histories (not run
+    again). Returns the lines of nh.md."""
+    nh = ["-material", "neohookean"]
+    cases = model_cases("nh", nh, SVK_DTS)
+    cases.update(model_cases("svk", ["-material", "svk"], (0.05, 0.0125)))
+    cases.update(model_cases("linear", ["-solver", "activeset"], (0.05, 0.0125)))
+    for dt in SVK_DTS:
+        cases[f"nh_test1_dt{dt}"] = ("test1", T, nh + ["-dt", str(dt), "-probes", "0,40"])
+        cases[f"nh_spin_dt{dt}"] = ("spin", 30.0, nh + ["-dt", str(dt)])
+    for dt in (0.05, 0.0125):
+        cases[f"linear_test1_dt{dt}"] = ("test1", T, ["-solver", "activeset", "-dt", str(dt), "-probes", "0,40"])
+    runs = run_material_cases(out, reuse, cases, "neohookean", have)
+    H = {k: r["history"] for k, r in runs.items()}
+    top = ("u2_probe0",)
+    rows = []
+    for label, case, t_end, keys in (
+            (f"Test 1 (lambda = mu = 30), t <= {SVK_WINDOW:g}, u2 of the top (0, 40)", "test1_T15_top", SVK_WINDOW, top),
+            (f"Test 1 (lambda = mu = 30), t <= {T:g}, u2_low (SVK collapses at 16.8)", "test1", T, ("u2_low",)),
+            (f"Test 1 (lambda = mu = 30), t <= {T:g}, u2 of the top (0, 40)", "test1", T, top),
+            (f"stiff Test 1 (lambda = mu = 300), t <= {T:g}, u2_low", "stiff", T, ("u2_low",))):
+        pairs = [(f"model, NH - {b}, dt = {dt:g}", f"nh_{case}_dt{dt}", f"{b}_{case}_dt{dt}")
+                 for b in ("linear", "svk") for dt in (0.0125, 0.05)]
+        pairs += [(f"dt error, {a} dt = 0.05 - dt = 0.0125", f"{a}_{case}_dt0.05", f"{a}_{case}_dt0.0125")
+                  for a in ("nh", "linear")]
+        for what, x, y in pairs:
+            if x in H and y in H:        # (no SVK on Test 1 to T = 40: it collapses at t = 16.8)
+                mx, l2 = diff_until(H[x], H[y], t_end, keys)
+                rows.append(f"| {label} | {what.replace('nh ', 'NH ')} | {mx:.3g} | {l2:.3g} |")
+    md = ["## Model differences: Neo-Hookean (NH) against linear and against SVK (paper's mesh)", "",
+          "| case | what | max difference | L2-in-time difference |", "| --- | --- | ---: | ---: |"] + rows
+    md += ["", "## Neo-Hookean's observed order in dt (self-convergence against dt = 0.0125, paper's mesh)", "",
+           "| case | errors at dt = " + ", ".join(map(str, SVK_DTS[:-1])) + " (max over t) | observed order | "
+           "L2-in-time errors | observed order (L2) |", "| --- | --- | ---: | --- | ---: |"]
+    for label, prefix, t_end, keys in (
+            ("spin (no contact, f = 0), T = 30, |u_low| (both components)", "nh_spin", 30.0, ("u1_low", "u2_low")),
+            ("stiff Test 1 (lambda = mu = 300), T = 40, u2_low", "nh_stiff", T, ("u2_low",)),
+            ("Test 1 (lambda = mu = 30), T = 40, u2_low", "nh_test1", T, ("u2_low",)),
+            ("Test 1 (lambda = mu = 30), T = 40, u2 of the top (0, 40)", "nh_test1", T, top)):
+        md.append(order_row(label, H, prefix, t_end, keys))
+    intervals = {k: contact_intervals(H[k]["t"], H[k]["active_nodes"] > 0) for k in ("nh_test1_dt0.0125", "linear_test1_dt0.0125",
+                                                                                    "nh_stiff_dt0.0125", "linear_stiff_dt0.0125")}
+    md += ["", "Contact intervals at dt = 0.0125: " + "; ".join(
+        f"{k.replace('_dt0.0125', '')} " + ", ".join(f"[{a:g}, {b:g}]" for a, b in v) for k, v in intervals.items()),
+        "", wall_line("Neo-Hookean", runs)]
+    with open(os.path.join(out, "nh.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
     return md
 
 
@@ -472,12 +561,16 @@ def main():
                    help="rebuild the tables and the plot from the runs and costs already in --out, running only what is missing")
     p.add_argument("--p2-only", action="store_true", help="run only the P2-against-P1 part (p2.md)")
     p.add_argument("--methods-only", action="store_true", help="run only the per-method part (methods.md)")
+    p.add_argument("--nh-only", action="store_true", help="run only the Neo-Hookean part (nh.md), with the linear "
+                   "and SVK runs it compares with")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     # what this invocation rewrites (--quick: only the main tables and figure)
     if a.p2_only or a.methods_only:
         part = "p2" if a.p2_only else "methods"
         stale = [f"{part}.md", f"{part}_work_precision.png", f"{part}_work_precision.pdf"]
+    elif a.nh_only:
+        stale = ["nh.md"]
     elif a.quick:
         stale = ["table.md", "orders.md", "work_precision.png", "work_precision.pdf"]
     else:
@@ -489,6 +582,10 @@ def main():
         return
     if a.methods_only:
         print("\n".join(methods_study(a.out, a.reuse)))
+        print(f"written to {a.out}/")
+        return
+    if a.nh_only:
+        print("\n".join(nh_study(a.out, a.reuse)))
         print(f"written to {a.out}/")
         return
     dts = DTS[1:4] if a.quick else DTS
@@ -555,9 +652,10 @@ def main():
         f.write("\n".join(orders) + "\n")
     svk_md = []
     if not a.quick:
-        svk_md = svk_study(a.out, a.reuse, finest_mesh)
+        svk_md, svk_histories = svk_study(a.out, a.reuse, finest_mesh)
         with open(os.path.join(a.out, "svk.md"), "w") as f:
             f.write("\n".join(svk_md) + "\n")
+        svk_md += [""] + nh_study(a.out, a.reuse, svk_histories)
         p2_md = p2_study(a.out, a.reuse)
         p2_md += [""] + methods_study(a.out, a.reuse)
 

@@ -35,3 +35,25 @@ def test_svk_break_is_told_apart():
                                   "no convergence in 25 Newton iterations"))[2].startswith("no convergence")
     assert svk_break("error: step 7 (t = 0.35) gave a non-finite solution; history.csv keeps every step before it") is None
     assert "svk" in CASES["svk v0y -5"][1] and "svk" not in CASES["v0y -5"][1]
+
+
+def test_neohookean_rows_and_their_bound(tmp_path):
+    """The Neo-Hookean rows are the cases where SVK collapses; their bound is the round-off one
+    (a one-step rise of the modified energy above 1e-12 relative fails them, not an svk row)
+    and min_J > 0 on every step."""
+    from stress import NEOHOOKEAN, NH_ROUNDOFF, SVK
+    assert set(NEOHOOKEAN) <= set(SVK) and not any(n.startswith("f = 0") for n in NEOHOOKEAN)
+    assert all(CASES[f"neohookean {n}"][2] == "roundoff" and "neohookean" in CASES[f"neohookean {n}"][1] for n in NEOHOOKEAN)
+    columns = ["step", "t", "energy", "modified_energy", "active_nodes", "max_penetration", "qp_solved", "solver_status", "min_J"]
+
+    def judged(name, rise, min_j=0.5):
+        out = tmp_path / f"{name}_{rise}_{min_j}".replace(" ", "_")
+        out.mkdir()
+        (out / "parameters.txt").write_text("-T 0.1\n-dt 0.05\n")
+        (out / "history.csv").write_text(",".join(columns) + "\n" + "".join(
+            f"{k},{0.05 * k},1,{500 + (rise * 500 if k == 2 else 0)},0,0,0,0,{min_j if k else 1}\n" for k in range(3)))
+        return evaluate(name, str(out), 0, "")[1]
+    assert judged("neohookean v0y -5", 0.5 * NH_ROUNDOFF) == []
+    assert any("rises" in f for f in judged("neohookean v0y -5", 2 * NH_ROUNDOFF))
+    assert judged("svk v0y -5", 2 * NH_ROUNDOFF) == []                 # SVK rows keep the 1e-8 bound
+    assert any("min_J" in f for f in judged("neohookean v0y -5", 0, min_j=-0.1))
