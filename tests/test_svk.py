@@ -30,7 +30,7 @@ def run_unit(seed, order=1, material="svk", scale=None):
     values = {}
     for line in p.stdout.splitlines():
         parts = line.split()
-        if parts and parts[0] in ("tangent", "identity", "linear"):
+        if parts and parts[0] in ("tangent", "identity", "linear", "gradient"):
             values[parts[0]] = float(parts[1])
         if parts and parts[0] == "inverted":
             values["inverted"], values["inverted_force"] = float(parts[1]), int(parts[2])
@@ -42,8 +42,11 @@ def test_tangent_identity_and_linear_limit_at_a_random_state(seed, order):
     """The consistent tangent N'(x) against a central difference of the mid-point force N
     (relative error <= 1e-6); the discrete-gradient identity of Section 3,
     N(x).(x - u^n) = W(x) - W(u^n), to round-off; and N'(0) = K / 2, the linear form of (1).
-    At P2 the 7-point rule integrates W, N and N' exactly, so the identity holds to round-off too."""
+    At P2 the 7-point rule integrates W, N and N' exactly, so the identity holds to round-off too.
+    And for a vanishing step (u^n = x) N(x) is the gradient of the stored energy at x, against its
+    central difference (<= 1e-6; measured 1.9e-10 to 9.1e-9): the stress is dW/dE at any state."""
     v = run_unit(seed, order)
+    assert v["gradient"] <= 1e-6, f"N against the gradient of W: relative error {v['gradient']:.3g}"
     assert v["tangent"] <= 1e-6, f"tangent against central differences: relative error {v['tangent']:.3g}"
     assert v["identity"] <= 1e-12, f"energy identity: relative error {v['identity']:.3g}"
     assert v["linear"] <= 1e-12, f"N'(0) against K/2: relative error {v['linear']:.3g}"
