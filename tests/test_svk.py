@@ -226,7 +226,7 @@ def test_newton_failure_without_retry_is_one_clear_error(tmp_path):
 
 def test_make_svk_measures_the_three_bodies_alike(runs, histories):
     """postprocess/svk_compare.py's measurements (make svk) on this suite's short Test 1 runs of the
-    three bodies (linear to T = 45, SVK to 16.5, Neo-Hookean to 30): the first contact starts at the
+    three bodies (linear to T = 45, SVK to 16.5, Neo-Hookean to 120): the first contact starts at the
     same step for all (the free fall is the same), det F from the snapshots equals the history's min_J
     (metrics() fails otherwise; the linear body's min J comes from its snapshots alone) and lies in
     (0, 1) under the impact, and the modified energy does not rise in a step on the fixed foundation."""
