@@ -39,6 +39,15 @@ def read_parameters(run_dir):
     return read_keyed(os.path.join(run_dir, "parameters.txt"))
 
 
+def energy_gain(h):
+    """The energy guard's measure (edp/lib/guards.idp) at every step: the modified energy's gain over
+    its start, (m - m0) / S, S = max(|m0|, E0, max_k |(f, u^k - u^0)|) with (f, u) = E - m."""
+    e, m = h["energy"], h["modified_energy"]
+    work = e - m
+    scale = np.maximum(max(abs(m[0]), e[0]), np.maximum.accumulate(np.abs(work - work[0])))
+    return (m - m[0]) / np.where(scale > 0, scale, 1e-300)
+
+
 def contact_intervals(t, in_contact, min_gap=0.5):
     """Time intervals of contact; gaps shorter than min_gap (chatter) are merged."""
     intervals = []

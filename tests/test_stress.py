@@ -57,3 +57,17 @@ def test_neohookean_rows_and_their_bound(tmp_path):
     assert any("rises" in f for f in judged("neohookean v0y -5", 2 * NH_ROUNDOFF))
     assert judged("svk v0y -5", 2 * NH_ROUNDOFF) == []                 # SVK rows keep the 1e-8 bound
     assert any("min_J" in f for f in judged("neohookean v0y -5", 0, min_j=-0.1))
+
+
+def test_guard_stop_is_told_apart():
+    """A "guarded" case (explicit Verlet near its critical step) may end at the energy guard: one line
+    "error: the modified energy grew from A to B by step N (t = X), G% of ..." (exit 4); any other
+    line, or two, is a failure."""
+    from stress import guard_stop
+    line = ("error: the modified energy grew from 502.362 to 618.219 by step 1165 (t = 20.97), 10.6% of the run's energy "
+            "1096.64, on a fixed foundation, where more than 10% is no valid result: explicit Verlet is stable only below "
+            "its critical step 0.0206705 (-dt 0.018 is 87.1% of it), ...; history.csv keeps every step up to this one\n")
+    assert guard_stop(line) == (1165, 20.97, 10.6)
+    assert guard_stop(line + line) is None
+    assert guard_stop("error: step 7 (t = 0.35) gave a non-finite solution; history.csv keeps every step before it") is None
+    assert CASES["verlet penalty at 0.9 dt_c"][2] == "guarded"

@@ -3,8 +3,9 @@
 # usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M \
 #            -f numbers.awk -f check_checkpoint.awk FILE
 # Format (output.idp, writeCheckpoint): one header line
-#   checkpoint 4 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
+#   checkpoint 5 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
 #                TOPOLOGY PARAMETERS_CHECKSUM DATA_CHECKSUM MAXPEN_OUTSIDE
+#                ENERGY_GUARD_ON M0 SCALE0 WORK0 WORK_MAX GAIN_MAX GAIN_M GAIN_T   (guards.idp)
 # then u (NDOF values), v (NDOF values), the active set (NCONTACT values 0 or 1) and
 # the contact multipliers (NCONTACT values),
 # each as FreeFEM writes an array (its size, then the values), then "end STEP".
@@ -19,10 +20,10 @@ BEGIN {
 }
 NR == 1 {
   if ($1 != "checkpoint") fail("checkpoint.txt is not a checkpoint (empty or corrupt)")
-  if ($2 != "4" || NF != 20) fail("checkpoint.txt has another format (written by another version); start a new run")
+  if ($2 != "5" || NF != 28) fail("checkpoint.txt has another format (written by another version); start a new run")
   if ($3 != scene) fail("it is a run of scene " $3 ", not " scene)
   if (!isint($4) || $4 + 0 < 1) fail("checkpoint.txt has no valid step ('" $4 "')")
-  for (i = 5; i <= 20; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
+  for (i = 5; i <= 28; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
   if ($8 != nv || $9 != nt) fail("its checkpoint is for a mesh with " $8 " vertices and " $9 " triangles; -mesh " mesh " has " nv " and " nt)
   if ($11 != ndof || $12 != ncontact) fail("checkpoint.txt is for " $11 " unknowns and " $12 " contact vertices, this mesh has " ndof " and " ncontact)
   step = $4; part = 0; expect = -1; next
