@@ -10,8 +10,15 @@ SCENE ?= test1
 # make run writes here by default: a directory no other target owns
 OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
-# runs at a time in make svk, methods and csm3 (the machine has 2 cores)
+# runs at a time in make svk, methods and csm3 (the machine has 2 cores); a positive integer, checked when one
+# of them is a goal, before anything is built or removed: one line naming JOBS (make's `*** ... Stop.`, exit 2)
 JOBS ?= 2
+ifneq ($(filter svk methods csm3,$(MAKECMDGOALS)),)
+JOBS_NOT_DIGITS := $(subst 9,,$(subst 8,,$(subst 7,,$(subst 6,,$(subst 5,,$(subst 4,,$(subst 3,,$(subst 2,,$(subst 1,,$(subst 0,,$(JOBS)))))))))))
+ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOBS))),positive)),1 positive)
+$(error JOBS must be a positive integer (runs at a time of make svk, methods and csm3), got '$(JOBS)')
+endif
+endif
 T1_VALUES := 18 22 26
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)

@@ -4,6 +4,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -493,6 +494,38 @@ def test_make_run_of_a_mesh_gmsh_cannot_build_is_its_line_and_makes(tmp_path):
         for suffix in (".geo", ".msh", ".msh.log"):
             if os.path.exists(broken[:-4] + suffix):
                 os.remove(broken[:-4] + suffix)
+
+
+@pytest.mark.parametrize("target", ["svk", "methods", "csm3"])
+@pytest.mark.parametrize("jobs", ["0", "-1", "two", "1.5", ""])
+def test_make_study_with_a_bad_jobs_is_one_line_naming_jobs(tmp_path, target, jobs):
+    """Issue: make methods JOBS=0 ended in a Python traceback (ThreadPoolExecutor's max_workers), after it
+    had removed the earlier summary. JOBS is now checked by make before anything is built or removed: one
+    line naming JOBS and its value, exit 2, no traceback."""
+    results = tmp_path / "results"
+    (results / target).mkdir(parents=True)
+    (results / target / "summary.md").write_text("an earlier run's summary\n")
+    p = make([target, f"JOBS={jobs}", f"RESULTS={results}"])
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and p.stdout == "", (p.stdout, p.stderr)
+    assert "JOBS must be a positive integer" in lines[0] and f"got '{jobs}'" in lines[0], lines[0]
+    assert "Traceback" not in p.stderr
+    assert (results / target / "summary.md").read_text() == "an earlier run's summary\n"
+
+
+@pytest.mark.parametrize("script", ["svk_compare.py", "methods.py", "csm3.py"])
+@pytest.mark.parametrize("jobs", ["0", "-3", "two"])
+def test_study_script_with_a_bad_jobs_is_one_line(tmp_path, script, jobs):
+    """The scripts behind make svk, methods and csm3 refuse a --jobs that is not a positive integer with
+    one line naming --jobs (argparse, without its usage line), exit 2, no traceback, and leave the earlier
+    summary in place."""
+    (tmp_path / "summary.md").write_text("an earlier run's summary\n")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--jobs", jobs],
+                       cwd=ROOT, capture_output=True, text=True)
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0] == f"error: {script}: argument --jobs: must be a positive integer (runs at a time), got '{jobs}'"
+    assert (tmp_path / "summary.md").read_text() == "an earlier run's summary\n"
 
 
 def test_unwritable_output_directory(tmp_path):
