@@ -10,8 +10,15 @@ SCENE ?= test1
 # make run writes here by default: a directory no other target owns
 OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
-# runs at a time in make svk, methods and csm3 (the machine has 2 cores)
+# runs at a time in make svk, methods and csm3 (the machine has 2 cores); a positive integer, checked when one
+# of them is a goal, before anything is built or removed: one line naming JOBS (make's `*** ... Stop.`, exit 2)
 JOBS ?= 2
+ifneq ($(filter svk methods csm3,$(MAKECMDGOALS)),)
+JOBS_NOT_DIGITS := $(subst 9,,$(subst 8,,$(subst 7,,$(subst 6,,$(subst 5,,$(subst 4,,$(subst 3,,$(subst 2,,$(subst 1,,$(subst 0,,$(JOBS)))))))))))
+ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOBS))),positive)),1 positive)
+$(error JOBS must be a positive integer (runs at a time of make svk, methods and csm3), got '$(JOBS)')
+endif
+endif
 T1_VALUES := 18 22 26
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)
@@ -92,16 +99,25 @@ meshes/%_refine8.msh: meshes/%.geo | deps-run
 	$(build_mesh)
 
 # ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
-# Builds only the mesh the run uses (-mesh in ARGS, else the scene's meshFile, else the disk), when
-# it is a meshes/NAME.msh that a rule above makes; a broken .geo elsewhere in meshes/ does not matter.
-run: | deps-run
-	@mesh=meshes/disk.msh; \
-	scene_mesh=$$(sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)".*/\1/p' "edp/scenes/$(SCENE).idp" \
-	              2>/dev/null | tail -n 1); \
-	[ -n "$$scene_mesh" ] && mesh=$$scene_mesh; \
-	set -- $(ARGS); while [ $$# -gt 1 ]; do [ "$$1" = -mesh ] && mesh=$$2; shift; done; \
-	if $(MAKE) -n "$$mesh" >/dev/null 2>&1; then $(MAKE) --no-print-directory "$$mesh" || exit 1; fi
-	$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
+# Its prerequisite is the mesh the run uses (-mesh in ARGS, else the scene's meshFile, else the disk) when it is a
+# meshes/NAME.msh that a rule above makes (its .geo exists); a broken .geo elsewhere in meshes/ does not matter, and
+# any other -mesh is run.sh's to check. A prerequisite, not a make called from the recipe: a mesh that gmsh cannot
+# build is its one error line and make's, and a refused run is the run's one error line and make's `Error N`
+# (docs/errors.md, "Through make"); the recipe is not echoed.
+ifneq ($(filter run,$(MAKECMDGOALS)),)
+RUN_SCENE_FILE := $(if $(findstring /,$(SCENE))$(filter %.idp,$(SCENE)),$(SCENE),edp/scenes/$(SCENE).idp)
+RUN_MESH := $(shell mesh=meshes/disk.msh; \
+  scene_mesh=$$(sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)".*/\1/p' '$(RUN_SCENE_FILE)' 2>/dev/null | tail -n 1); \
+  [ -n "$$scene_mesh" ] && mesh=$$scene_mesh; \
+  set -- $(ARGS); while [ $$# -gt 1 ]; do [ "$$1" = -mesh ] && mesh=$$2; shift; done; \
+  case "$$mesh" in (./*) mesh=$${mesh:2} ;; esac; \
+  case "$$mesh" in (*[!A-Za-z0-9_./-]*) ;; (meshes/*.msh) echo "$$mesh" ;; esac)
+# its .geo: meshes/NAME.geo for meshes/NAME.msh and for meshes/NAME_{coarse,fine,refine4,refine8}.msh
+RUN_MESH_GEO := $(wildcard $(patsubst %.msh,%.geo,$(RUN_MESH)) \
+  $(foreach s,_coarse _fine _refine4 _refine8,$(patsubst %$(s).msh,%.geo,$(filter %$(s).msh,$(RUN_MESH)))))
+endif
+run: $(if $(RUN_MESH_GEO),$(RUN_MESH)) | deps-run
+	@$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
 
 # ---- the paper's tests (results are rebuilt when the code or scene changes).
 # summary.txt is written last, so a killed run is never taken as up to date.

@@ -9,7 +9,6 @@ component, and the frequency from the upward crossings of the mean. Writes
 OUT/summary.md (the table) and OUT/csm3.png/.pdf (u_x, u_y of A against t).
 A run that fails stops this script with a one-line error and exit status 1.
 """
-import argparse
 import os
 import sys
 import time
@@ -80,10 +79,10 @@ def percent(value, reference):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap = jobs.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="results/csm3")
     ap.add_argument("--cases", default=",".join(CASES), help="comma-separated subset of " + ",".join(CASES))
-    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--jobs", type=jobs.positive_int, default=2)
     a = ap.parse_args()
     out = os.path.abspath(a.out)
     cases = a.cases.split(",")

@@ -11,10 +11,15 @@ or in parallel, and stopped whole by Ctrl-C.
   terminal would, then SIGKILL after 5 s), drops the queued runs, prints one line and exits 130.
 - `run_parallel(fn, items, jobs)`: fn(item) for each item, `jobs` at a time, results in the order
   they finish (a generator); an exception of fn stops the queue and is raised.
+- `ArgumentParser` and `positive_int`, for the targets' --jobs: a bad argument is one line on stderr
+  (`error: methods.py: argument --jobs: must be a positive integer, got '0'`) and exit 2, before the
+  target removes anything (before, --jobs 0 removed the earlier summary and ended in a traceback).
 """
+import argparse
 import concurrent.futures
 import glob
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -31,6 +36,21 @@ _SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 class Interrupted(Exception):
     pass
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse.ArgumentParser whose errors are one line, `error: PROG: MESSAGE`, and exit 2
+    (argparse's own print the usage first; -h still prints it)."""
+
+    def error(self, message):
+        self.exit(2, f"error: {self.prog}: {message}\n")
+
+
+def positive_int(text):
+    """argparse type of --jobs (runs at a time): an integer >= 1, written in decimal digits."""
+    if not re.fullmatch(r"[0-9]+", text.strip()) or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer (runs at a time), got '{text}'")
+    return int(text)
 
 
 def start(cmd, **kwargs):

@@ -241,9 +241,9 @@ def write_summary(rows, runs, out, wall, jobs):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = jobs.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "methods"))
-    p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--jobs", type=jobs.positive_int, default=2)
     a = p.parse_args()
     out = os.path.abspath(a.out)
     for test in TESTS:

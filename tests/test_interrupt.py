@@ -1,16 +1,21 @@
 """Ctrl-C stops a make target whole (issue 19): every run it started is killed, the queued runs do
 not start, it prints one line and exits 130, and it leaves no summary that looks current beside
 killed, partial runs (postprocess/jobs.py). Before, `make svk` ran its queued runs for 42 s after
-the interrupt, ended in a Python traceback, and left the previous summary.md and figures."""
+the interrupt, ended in a Python traceback, and left the previous summary.md and figures.
+Ctrl-C of `make run` and `edp/run.sh` is status 130 too, with OUT as docs/errors.md says."""
 import os
+import re
+import shutil
 import signal
 import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, files_of
+from history import read_run
 
 PYTHON = sys.executable
 TARGETS = {
@@ -73,3 +78,103 @@ def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     time.sleep(0.5)
     assert not processes_of(out), f"{target}: processes left after Ctrl-C: {processes_of(out)}"
     assert not (out / summary).exists(), f"{target}: a stale {summary} is left"
+
+
+# ---- make run and edp/run.sh (docs/errors.md: status 130)
+
+def interrupt(p, seconds=30):
+    """Ctrl-C at a terminal: SIGINT to p's whole process group; returns (status, stdout, stderr)."""
+    os.killpg(p.pid, signal.SIGINT)
+    try:
+        out, err = p.communicate(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise AssertionError(f"still running {seconds} s after Ctrl-C")
+    return p.returncode, out, err
+
+
+def history_rows(path):
+    return sum(1 for _ in open(path)) if os.path.exists(path) else 0
+
+
+def test_ctrl_c_of_make_run_mid_run_is_130_and_leaves_a_restartable_run(tmp_path, histories):
+    """Ctrl-C during `make run`: make dies of SIGINT (a shell's status 130, Python's -2) with its one line
+    `make: *** [...] Interrupt`; OUT keeps the run's complete history rows, its last checkpoint and no
+    summary.txt, its lock is released, and -restart OUT continues it to the uninterrupted history."""
+    out = tmp_path / "out"
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    p = subprocess.Popen(["make", "run", "SCENE=test1", f"OUT={out}",
+                          "ARGS=-T 20 -checkpoint_every 50 -progress 0 -vtk 0 -snapshots none"],
+                         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                         env=dict(env, FORCE="1"))
+    deadline = time.time() + 120
+    while history_rows(out / "history.csv") <= 260 and time.time() < deadline and p.poll() is None:
+        time.sleep(0.02)
+    assert p.poll() is None, "the run ended before it was interrupted"
+    status, _, err = interrupt(p)
+    assert status in (-signal.SIGINT, 130), status
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and re.fullmatch(r"make: \*\*\* \[Makefile:[0-9]+: run\] Interrupt", lines[0]), err
+    assert not freefem_running(out)
+    assert not (out / "summary.txt").exists() and not (out / ".staging").exists()
+    assert (out / ".lock").read_text() == ""                    # released: no "left by a run that was killed"
+    text = (out / "history.csv").read_text()
+    assert text.endswith("\n")
+    rows = text.splitlines()[1:]
+    assert all(len(r.split(",")) == len(rows[0].split(",")) for r in rows) and len(rows) < 401
+    step = int(open(out / "checkpoint.txt").readline().split()[3])
+    assert 250 <= step < len(rows), (step, len(rows))
+
+    p = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), "test1", str(out), "-restart", str(out)],
+                       capture_output=True, text=True, env=dict(os.environ, FORCE="1"))
+    assert p.returncode == 0 and "killed" not in p.stdout, p.stdout + p.stderr
+    restarted, whole = read_run(str(out)), histories["test1"]
+    assert len(restarted["t"]) == 401
+    for column in restarted:
+        assert np.abs(restarted[column] - whole[column][:401]).max() <= 1e-12, column
+
+
+def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, earlier_run):
+    """Ctrl-C while edp/run.sh still checks its input (here a scene that computes for long): the run dies
+    of SIGINT (status 130) and OUT is untouched: an earlier run byte-identical, a new OUT not created."""
+    scene = tmp_path / "slow.idp"
+    scene.write_text('foundation = "flat";\nreal zzSlow = 0;\nfor (int i = 0; i < 100000000; i++) zzSlow += 1;\n')
+    earlier = tmp_path / "earlier"
+    shutil.copytree(earlier_run, earlier)
+    before = files_of(earlier)
+    for out in (earlier, tmp_path / "new"):
+        p = subprocess.Popen([os.path.join(ROOT, "edp", "run.sh"), str(scene), str(out), "-T", "1", "-progress", "0"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                             env=dict(os.environ, FORCE="1"))
+        deadline = time.time() + 30
+        while not freefem_running(out) and time.time() < deadline and p.poll() is None:
+            time.sleep(0.02)
+        assert freefem_running(out), "FreeFEM did not start"
+        time.sleep(0.5)
+        status, _, err = interrupt(p)
+        assert status in (-signal.SIGINT, 130), (status, err)
+        assert not freefem_running(out)
+    assert files_of(earlier) == before and not os.path.exists(earlier / ".staging")
+    assert not (tmp_path / "new").exists()
+
+
+def test_ctrl_c_of_a_make_study_target_is_130(tmp_path):
+    """Ctrl-C during `make methods` (the study targets through make): the target's one `interrupted:` line
+    and make's, status 130 (Python's -2), no run left and no summary."""
+    results = tmp_path / "results"
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    p = subprocess.Popen(["make", "--no-print-directory", "methods", f"RESULTS={results}", "JOBS=1"], cwd=ROOT,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True, env=env)
+    out = results / "methods"
+    deadline = time.time() + 60
+    while not freefem_running(out) and time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)
+    assert freefem_running(out), "no run started"
+    time.sleep(0.3)
+    status, _, err = interrupt(p, 15)
+    assert status in (-signal.SIGINT, 130), status
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert lines[0].startswith("interrupted: make methods stopped"), err
+    assert len(lines) == 2 and re.fullmatch(r"make: \*\*\* \[Makefile:[0-9]+: methods\] (Error 130|Interrupt)", lines[1]), err
+    time.sleep(0.5)
+    assert not processes_of(out) and not (out / "summary.md").exists()

@@ -1,8 +1,10 @@
 """Bad input: exit 3 and one clear line naming the parameter, and an earlier run in
 OUT byte-identical afterwards, even with FORCE=1 (docs/errors.md)."""
 import os
+import re
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -443,6 +445,90 @@ def test_make_run_builds_only_its_mesh_and_a_gmsh_error_is_one_line(tmp_path):
         for suffix in (".geo", ".msh", ".msh.log"):
             if os.path.exists(broken[:-4] + suffix):
                 os.remove(broken[:-4] + suffix)
+
+
+def make(args, **kwargs):
+    """make ARGS in the repository, as a user types it (not as a sub-make of make check's make)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    env.update(kwargs.pop("env", {}))
+    return subprocess.run(["make"] + args, cwd=ROOT, capture_output=True, text=True, env=env, **kwargs)
+
+
+MAKE_ERROR = re.compile(r"make: \*\*\* \[Makefile:[0-9]+: ([^]]+)\] Error ([0-9]+)")
+
+
+@pytest.mark.parametrize("args, scene, status, message", [
+    (["-dtt", "1"], "test1", 3, "error: unknown option -dtt; known options: "),
+    (["-dt", "0"], "test1", 3, "error: -dt must be > 0"),
+    ([], "nosuch", 3, "error: no scene 'nosuch' (edp/scenes/nosuch.idp); see make scenes"),
+    (["-mesh", "meshes/zz_missing.msh"], "test1", 3, "error: -mesh meshes/zz_missing.msh: file missing or unreadable"),
+])
+def test_make_run_refusal_is_the_runs_line_and_makes_error_line(tmp_path, args, scene, status, message):
+    """Through make, a refused run is two lines on stderr: the run's one error line, and make's own
+    `make: *** [Makefile:N: run] Error 3` that carries the run's status; make itself exits 2 (GNU make's
+    status is always 0, 1 or 2; docs/errors.md, "Through make"). Nothing else: no echoed command, no
+    line of the mesh step, nothing on stdout."""
+    out = tmp_path / "out"
+    p = make(["run", f"SCENE={scene}", f"OUT={out}", "ARGS=" + " ".join(args + ["-T", "1", "-progress", "0"])])
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 2 and p.stdout == "", (p.returncode, p.stdout, p.stderr)
+    assert lines[0].startswith(message), lines[0]
+    m = MAKE_ERROR.fullmatch(lines[1])
+    assert m and m.group(1) == "run" and int(m.group(2)) == status, lines[1]
+    assert not out.exists()
+
+
+def test_make_run_of_a_mesh_gmsh_cannot_build_is_its_line_and_makes(tmp_path):
+    """make run with a -mesh meshes/NAME.msh whose .geo gmsh cannot mesh: the mesh step's one error line
+    and make's one line (its mesh target, Error 1), exit 2; the run does not start (before, a make inside
+    the recipe added a second make line)."""
+    broken = os.path.join(ROOT, "meshes", "zz_test_broken_run.geo")
+    try:
+        with open(broken, "w") as f:
+            f.write("Point(1)={0,0,0,1};\nLine(1)={1,7};\n")
+        p = make(["run", "SCENE=test1", f"OUT={tmp_path / 'out'}", "ARGS=-mesh meshes/zz_test_broken_run.msh -T 1"])
+        lines = p.stderr.splitlines()
+        assert p.returncode == 2 and len(lines) == 2, p.stderr
+        assert lines[0].startswith("error: gmsh could not mesh meshes/zz_test_broken_run.geo: "), lines[0]
+        m = MAKE_ERROR.fullmatch(lines[1])
+        assert m and m.group(1) == "meshes/zz_test_broken_run.msh" and m.group(2) == "1", lines[1]
+        assert not (tmp_path / "out").exists()
+    finally:
+        for suffix in (".geo", ".msh", ".msh.log"):
+            if os.path.exists(broken[:-4] + suffix):
+                os.remove(broken[:-4] + suffix)
+
+
+@pytest.mark.parametrize("target", ["svk", "methods", "csm3"])
+@pytest.mark.parametrize("jobs", ["0", "-1", "two", "1.5", ""])
+def test_make_study_with_a_bad_jobs_is_one_line_naming_jobs(tmp_path, target, jobs):
+    """Issue: make methods JOBS=0 ended in a Python traceback (ThreadPoolExecutor's max_workers), after it
+    had removed the earlier summary. JOBS is now checked by make before anything is built or removed: one
+    line naming JOBS and its value, exit 2, no traceback."""
+    results = tmp_path / "results"
+    (results / target).mkdir(parents=True)
+    (results / target / "summary.md").write_text("an earlier run's summary\n")
+    p = make([target, f"JOBS={jobs}", f"RESULTS={results}"])
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and p.stdout == "", (p.stdout, p.stderr)
+    assert "JOBS must be a positive integer" in lines[0] and f"got '{jobs}'" in lines[0], lines[0]
+    assert "Traceback" not in p.stderr
+    assert (results / target / "summary.md").read_text() == "an earlier run's summary\n"
+
+
+@pytest.mark.parametrize("script", ["svk_compare.py", "methods.py", "csm3.py"])
+@pytest.mark.parametrize("jobs", ["0", "-3", "two"])
+def test_study_script_with_a_bad_jobs_is_one_line(tmp_path, script, jobs):
+    """The scripts behind make svk, methods and csm3 refuse a --jobs that is not a positive integer with
+    one line naming --jobs (argparse, without its usage line), exit 2, no traceback, and leave the earlier
+    summary in place."""
+    (tmp_path / "summary.md").write_text("an earlier run's summary\n")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--jobs", jobs],
+                       cwd=ROOT, capture_output=True, text=True)
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0] == f"error: {script}: argument --jobs: must be a positive integer (runs at a time), got '{jobs}'"
+    assert (tmp_path / "summary.md").read_text() == "an earlier run's summary\n"
 
 
 def test_unwritable_output_directory(tmp_path):
