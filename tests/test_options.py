@@ -31,6 +31,8 @@ BAD = [
     (["-material", "svk", "-solver", "activeset"], "-solver activeset does not apply to -material svk"),
     (["-solver", "newton"], "-solver must be ipopt or activeset for -material linear"),
     (["-material", "svk", "-newton_tol", "0"], "-newton_tol must be in (0, 1e-6]"),
+    # issue 23: 1e-4 moved the contact stress by 0.4 and counted 34 free nodes as pressed, with exit 0
+    (["-tol", "1e-4"], "-tol must be in (0, 1e-6] (looser, IPOPT's contact stress and active set are off), got 0.0001"),
     # issue 19: 0.999 ran Test 1 to an energy of 1197 from 502 with exit 0
     (["-material", "svk", "-newton_tol", "0.999"], "-newton_tol must be in (0, 1e-6] (looser, Newton stops before the step "
                                                    "solves the scheme), got 0.999"),

@@ -215,6 +215,9 @@ def test_a_step_just_above_the_floor_runs(tmp_path):
     # at the penalty's least eps the critical step is tiny, and printed as a number, not 0
     (["-scheme", "verlet", "-contact", "penalty", "-penalty_eps", "1e-10", "-dt", "0.01"],
      "above the critical step 6.98225e-06 of -scheme verlet on this mesh, material, mass and -penalty_eps 1e-10", "below 0,"),
+    # theta = -1 has no stability bound; 1e-300 overflowed 1 / gamma into a non-finite first step
+    (["-contact", "nitsche", "-nitsche_theta", "-1", "-nitsche_gamma0", "1e-300"],
+     "-nitsche_gamma0 1e-300 is below 1.20784e-06 (C / 1e+08", "non-finite"),
     # the Nitsche note overflowed: "1e+25 is -9223372036854775808 times that"
     (["-contact", "nitsche", "-nitsche_gamma0", "1e25"], "-nitsche_gamma0 1e+25 is above 1.20784e+10", "-9223372036854775808"),
 ])
