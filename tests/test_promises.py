@@ -302,3 +302,16 @@ def test_singular_mass_without_a_foundation_is_named(tmp_path):
     consistent-mass one), silently; now a warning line says so."""
     p = run_scene("freeflight", tmp_path / "s", ["-mass", "singular", "-T", "1"] + QUIET)
     assert "warning: -mass singular takes the mass off the nodes of Gamma_C (label 1)" in p.stderr
+
+
+def test_a_history_column_that_overflows_stops_the_run(tmp_path):
+    """A finite u can have a strain that overflows (its principal value squares it): the sweep found a
+    blown-up explicit run that exited 0 with max_strain = inf in 17 rows. Every column is now checked
+    before its row is written (test hook: step 5's solution scaled by 1e100, its energy still finite)."""
+    out = tmp_path / "huge"
+    p = run_scene("test1", out, ["-T", "1"] + QUIET, check=False, env={"CONTACT_TEST_HUGE_STEP": "5"})
+    errors = error_lines(p)
+    assert p.returncode == 4 and len(errors) == 1, p.stderr
+    assert errors[0].startswith("error: step 5 (t = 0.25) gave a non-finite value in history.csv's columns (the largest strain inf")
+    h = read_csv(os.path.join(out, "history.csv"))
+    assert list(h["step"]) == [0, 1, 2, 3, 4] and np.isfinite(np.column_stack(list(h.values()))).all()
