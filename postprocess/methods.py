@@ -1,8 +1,8 @@
 """`make methods`: the methods the paper measures itself against, side by side with its own
 (issue 17; docs/methods.md).
 
-Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of METHODS, --jobs at a time (2), into
-OUT/<test>/<method>/, and writes into OUT/:
+Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of MAKE_METHODS (METHODS, then
+QUADRATURE_METHODS), --jobs at a time (2), into OUT/<test>/<method>/, and writes into OUT/:
   methods_<test>_low_point.png/pdf   u2 at the lowest point (shared axes) and alpha there (small multiples)
   methods_<test>_energy.png/pdf      energy and modified energy (shared axes)
   methods_<test>_alpha_zoom.png/pdf  alpha at the lowest point on [10, 23], one panel per method
@@ -33,7 +33,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
 T = "45"
 SNAPSHOT = 15.25
-# name: (label, options). The paper's method first; its QP is solved exactly (activeset).
+# name: (label, options). The paper's method first; its QP is solved exactly (activeset). Penalty and
+# Nitsche integrate their contact term with the vertex rule (the default) unless the label says gauss.
 METHODS = {
     "paper": ("mid-point + constraint (the paper)", ["-solver", "activeset"]),
     "singular": ("mid-point + singular mass", ["-mass", "singular", "-solver", "activeset"]),
@@ -50,6 +51,20 @@ METHODS = {
     "newmark_damped": ("Newmark (0.3025, 0.6) + constraint",
                        ["-scheme", "newmark", "-newmark_beta", "0.3025", "-newmark_gamma", "0.6", "-solver", "activeset"]),
 }
+# The rows of Claim 2 again with the contact term on Gauss points (-contact_quadrature gauss): the
+# quadrature of penalty and Nitsche is a choice the comparison depends on (docs/methods.md). make methods
+# runs them after the twelve; make accuracy and make bench keep the twelve of METHODS.
+QUADRATURE_METHODS = {
+    "penalty_1e-3_gauss": ("mid-point + penalty, eps = 1e-3, gauss", ["-contact", "penalty", "-penalty_eps", "1e-3",
+                                                                       "-contact_quadrature", "gauss"]),
+    "nitsche_1_gauss": ("mid-point + Nitsche, theta = 1, gauss", ["-contact", "nitsche", "-nitsche_theta", "1",
+                                                                  "-contact_quadrature", "gauss"]),
+    "verlet_nitsche_gauss": ("explicit Verlet + Nitsche, theta = 1, dt = 0.01, gauss",
+                             ["-scheme", "verlet", "-contact", "nitsche", "-dt", "0.01", "-contact_quadrature", "gauss"]),
+    "verlet_penalty_gauss": ("explicit Verlet + penalty 1e-3, dt = 0.01, gauss",
+                             ["-scheme", "verlet", "-contact", "penalty", "-dt", "0.01", "-contact_quadrature", "gauss"]),
+}
+MAKE_METHODS = {**METHODS, **QUADRATURE_METHODS}
 TESTS = {"test1": ("test1", [], "Test 1 (fixed foundation)"),
          "test2": ("test2", ["-t1", "18"], "Test 2, t1 = 18 (moving foundation)")}
 COLUMNS = ["test", "method", "stopped_at", "contact_start", "contact_end", "rebound_height", "alpha_oscillation", "alpha_oscillation_005",
@@ -64,7 +79,7 @@ class Failure(Exception):
 def run_one(out, test, method):
     scene, targs, _ = TESTS[test]
     run_dir = os.path.join(out, test, method)
-    cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0", "-T", T, "-snapshots", f"{SNAPSHOT:g}"] + targs + METHODS[method][1]
+    cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0", "-T", T, "-snapshots", f"{SNAPSHOT:g}"] + targs + MAKE_METHODS[method][1]
     t0 = time.perf_counter()
     p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
     wall = time.perf_counter() - t0
@@ -134,14 +149,14 @@ def hist_end(runs, test, m):
 
 def plot_test(runs, test, out):
     title = TESTS[test][2]
-    colors = plt.cm.tab20(np.linspace(0, 1, len(METHODS)))
-    hist = {m: read_run(runs[(test, m)]["dir"]) for m in METHODS}
+    colors = plt.cm.tab20(np.linspace(0, 1, len(MAKE_METHODS)))
+    hist = {m: read_run(runs[(test, m)]["dir"]) for m in MAKE_METHODS}
     paper = hist["paper"]
     # u2 (shared axes) and energies (shared axes)
     fig, axes = plt.subplots(1, 3, figsize=(18, 4.2))
     for c, (m, h) in zip(colors, hist.items()):
         lw = 2 if m == "paper" else 0.9
-        axes[0].plot(h["t"], h["u2_low"], color=c, lw=lw, label=METHODS[m][0])
+        axes[0].plot(h["t"], h["u2_low"], color=c, lw=lw, label=MAKE_METHODS[m][0])
         axes[1].plot(h["t"], h["energy"], color=c, lw=lw)
         axes[2].plot(h["t"], h["modified_energy"], color=c, lw=lw)
     axes[0].set(xlabel="t", ylabel="u2 at the lowest point", title=f"{title}: u2 at the lowest point")
@@ -151,14 +166,14 @@ def plot_test(runs, test, out):
     save(fig, out, f"methods_{test}_low_point_energy")
     # alpha: small multiples, the paper's in grey on each
     for name, lo_t, hi_t in (("alpha", 0, float(T)), ("alpha_zoom", 10, 23)):
-        fig, axes = grid(len(METHODS))
+        fig, axes = grid(len(MAKE_METHODS))
         for ax, c, (m, h) in zip(axes, colors, hist.items()):
             s = (h["t"] >= lo_t) & (h["t"] <= hi_t)
             sp = (paper["t"] >= lo_t) & (paper["t"] <= hi_t)
             if m != "paper":
                 ax.plot(paper["t"][sp], paper["contact_pressure_low"][sp], color="0.75", lw=0.8)
             ax.plot(h["t"][s], h["contact_pressure_low"][s], color=c, lw=0.9)
-            ax.set_title(METHODS[m][0], fontsize=7)
+            ax.set_title(MAKE_METHODS[m][0], fontsize=7)
         ymax = max(np.percentile(h["contact_pressure_low"], 99.9) for m, h in hist.items())
         for ax in axes:
             ax.set_ylim(-1, 1.15 * ymax)
@@ -166,26 +181,26 @@ def plot_test(runs, test, out):
                      + " (grey: the paper's method)", y=1.01)
         save(fig, out, f"methods_{test}_{name}")
     # von Mises at t = 15.25
-    fig, axes = grid(len(METHODS), 3.0, 2.6)
+    fig, axes = grid(len(MAKE_METHODS), 3.0, 2.6)
     vmax = 0
     snaps = {}
-    for m in METHODS:
+    for m in MAKE_METHODS:
         p = os.path.join(runs[(test, m)]["dir"], f"snapshot_t{SNAPSHOT:g}.csv")
         if os.path.exists(p):            # (not for a run the energy guard stopped before)
             snaps[m] = read_csv(p)
             vmax = max(vmax, snaps[m]["vonmises"].max())
-    for ax, m in zip(axes, METHODS):
+    for ax, m in zip(axes, MAKE_METHODS):
         if m not in snaps:
             ax.text(0.5, 0.5, f"stopped by the energy guard\nat t = {hist_end(runs, test, m):g}", ha="center", va="center",
                     fontsize=7, transform=ax.transAxes)
-            ax.set_title(METHODS[m][0], fontsize=6)
+            ax.set_title(MAKE_METHODS[m][0], fontsize=6)
             ax.axis("off")
             continue
         s = snaps[m]
         _, tri = read_freefem_mesh(os.path.join(runs[(test, m)]["dir"], "mesh.msh"))
         tp = ax.tripcolor(s["x"] + s["u1"], s["y"] + s["u2"], tri, s["vonmises"], shading="gouraud", vmin=0, vmax=vmax, cmap="jet")
         ax.set_aspect("equal")
-        ax.set_title(f"{METHODS[m][0]}\nmax {s['vonmises'].max():.1f}", fontsize=6)
+        ax.set_title(f"{MAKE_METHODS[m][0]}\nmax {s['vonmises'].max():.1f}", fontsize=6)
         ax.set_xticks([])
         ax.set_yticks([])
     fig.colorbar(tp, ax=list(axes), shrink=0.5, label="von Mises stress", extend="max")
@@ -221,7 +236,7 @@ def write_summary(rows, runs, out, wall, jobs):
         for r in rows:
             if r["test"] != test:
                 continue
-            label = METHODS[r['method']][0]
+            label = MAKE_METHODS[r['method']][0]
             if r["stopped_at"] == r["stopped_at"]:
                 label += f" (**stopped at t = {r['stopped_at']:g}**)"
             L.append(f"| {label} | [{fmt(r['contact_start'], 'g')}, {fmt(r['contact_end'], 'g')}] | "
@@ -230,10 +245,10 @@ def write_summary(rows, runs, out, wall, jobs):
                      f"{r['max_penetration']:.2g} | "
                      f"{r['modified_energy_change']:.4g} | {r['largest_step_gain']:.2g} | {r['wall_s']:.1f} | "
                      f"{fmt(r['ms_per_step'], '.2f')} |")
-        warned = [(m, runs[(test, m)]["warning"] or runs[(test, m)]["stopped"]) for m in METHODS
+        warned = [(m, runs[(test, m)]["warning"] or runs[(test, m)]["stopped"]) for m in MAKE_METHODS
                   if runs[(test, m)]["warning"] or runs[(test, m)]["stopped"]]
         for m, w in warned:
-            L += ["", f"{METHODS[m][0]}: `{w}`"]
+            L += ["", f"{MAKE_METHODS[m][0]}: `{w}`"]
         L.append("")
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write("\n".join(L))
@@ -253,14 +268,14 @@ def main():
     t0 = time.perf_counter()
     runs = {}
     try:
-        for res in jobs.run_parallel(lambda tm: run_one(out, *tm), [(t, m) for t in TESTS for m in METHODS], a.jobs):
+        for res in jobs.run_parallel(lambda tm: run_one(out, *tm), [(t, m) for t in TESTS for m in MAKE_METHODS], a.jobs):
             print(f"methods: {res['test']}/{res['method']} ({res['wall']:.1f} s)", flush=True)
             runs[(res["test"], res["method"])] = res
     except Failure as e:
         print(f"error: make methods: {e}", file=sys.stderr)
         sys.exit(1)
     wall = time.perf_counter() - t0
-    rows = [metrics(runs[(t, m)]) for t in TESTS for m in METHODS]
+    rows = [metrics(runs[(t, m)]) for t in TESTS for m in MAKE_METHODS]
     for test in TESTS:
         plot_test(runs, test, out)
     print(write_summary(rows, runs, out, wall, a.jobs))

@@ -119,6 +119,29 @@ RUNS.update({
     "cantilever_lumped": ("cantilever", ["-T", "10", "-mass", "lumped", "-solver", "activeset", "-probes", "0,1.5,10,1.5",
                                          "-snapshots", "5"]),
 })
+# -contact_quadrature gauss (tests/test_quadrature.py): penalty and Nitsche with their contact term on
+# Gauss points; the vertex runs above are their counterparts
+GAUSS = ["-contact_quadrature", "gauss"]
+NITSCHE_GAMMA0_GAUSS = ("1e4", "1e5", "1e6")
+RUNS.update({
+    **{f"rest_penalty_gauss_{e}": ("test1", ["-contact", "penalty", "-penalty_eps", e] + GAUSS + REST) for e in PENALTY_EPS},
+    **{f"rest_nitsche_gauss_{g}": ("test1", ["-contact", "nitsche", "-nitsche_gamma0", g] + GAUSS + REST)
+       for g in NITSCHE_GAMMA0_GAUSS},
+    "f0_penalty_gauss": ("test1", ["-contact", "penalty"] + GAUSS + F0_IMPACT),
+    "penalty_gauss": ("test1", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"] + GAUSS),
+    "nitsche_gauss_theta1": ("test1", ["-contact", "nitsche", "-nitsche_theta", "1", "-T", "30"] + GAUSS),
+    "verlet_nitsche_gauss": ("test1", ["-scheme", "verlet", "-contact", "nitsche", "-dt", "0.01", "-T", "30"] + GAUSS),
+    "verlet_penalty_gauss": ("test1", ["-scheme", "verlet", "-contact", "penalty", "-dt", "0.01", "-T", "30"] + GAUSS),
+    "penalty_gauss_test2": ("test2", ["-contact", "penalty", "-penalty_eps", "1e-3", "-T", "30"] + GAUSS),
+    "nitsche_gauss_test2": ("test2", ["-contact", "nitsche", "-T", "20", "-snapshots", "none"] + GAUSS),
+    "nitsche_incline": ("incline", ["-contact", "nitsche", "-T", "10", "-snapshots", "none"]),
+    "nitsche_gauss_incline": ("incline", ["-contact", "nitsche", "-T", "10", "-snapshots", "none"] + GAUSS),
+    "newmark_gauss_incline": ("incline", ["-scheme", "newmark", "-newmark_gamma", "0.6", "-newmark_beta", "0.3025",
+                                          "-contact", "penalty", "-T", "10", "-snapshots", "none"] + GAUSS),
+    "penalty_gauss_p2": ("test1", ["-order", "2", "-contact", "penalty", "-T", "14", "-mesh", COARSE] + GAUSS),
+    "cantilever_penalty_gauss": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4",
+                                                "-probes", "0,1.5,10,1.5", "-snapshots", "5"] + GAUSS),
+})
 # the Neo-Hookean body (issue 18): the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
 # a spinning free flight, its dt-convergence, f = 0 impacts, P2
 NH = ["-material", "neohookean"]
