@@ -177,7 +177,12 @@ def plot_test(runs, test, out):
                 ax.plot(paper["t"][sp], paper["contact_pressure_low"][sp], color="0.75", lw=0.8)
             ax.plot(h["t"][s], h["contact_pressure_low"][s], color=c, lw=0.9)
             ax.set_title(MAKE_METHODS[m][0], fontsize=7)
-        ymax = max(np.percentile(h["contact_pressure_low"], 99.9) for m, h in hist.items())
+        # (the scale of the runs that reached T: a run the energy guard stopped spikes before it stops)
+        ymax = max(np.percentile(h["contact_pressure_low"], 99.9) for m, h in hist.items() if not runs[(test, m)]["stopped"])
+        for ax, m in zip(axes, hist):
+            if runs[(test, m)]["stopped"]:
+                ax.text(0.5, 0.9, f"stopped by the energy guard at t = {hist[m]['t'][-1]:g}", ha="center", fontsize=6,
+                        transform=ax.transAxes)
         for ax in axes:
             ax.set_ylim(-1, 1.15 * ymax)
         fig.suptitle(f"{title}: contact stress alpha at the lowest point" + (" on [10, 23]" if lo_t else "")

@@ -255,13 +255,16 @@ def main():
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "stress"))
     p.add_argument("--fast", action="store_true", help="only the make check subset")
+    p.add_argument("--methods-only", action="store_true",
+                   help="only the cases of the methods (METHOD_CASES), into summary_methods.md (summary.md is left as it is)")
     p.add_argument("--nh-only", action="store_true",
                    help="only the Neo-Hookean cases, into summary_neohookean.md (summary.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    summary = "summary_neohookean.md" if a.nh_only else "summary.md"
+    summary = "summary_neohookean.md" if a.nh_only else "summary_methods.md" if a.methods_only else "summary.md"
     jobs.stop_on_interrupt("make stress", a.out, [summary])
-    names = list(FAST) if a.fast else [n for n in CASES if is_neohookean(n)] if a.nh_only else list(CASES)
+    names = list(FAST) if a.fast else [n for n in CASES if is_neohookean(n)] if a.nh_only else \
+        list(METHOD_CASES) if a.methods_only else list(CASES)
     lines = ["| case | stresses | outcome | steps | energy bound | max one-step gain (relative) | max penetration | "
              "max active nodes | contact intervals | failures | seconds |",
              "| --- | --- | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: |"]
