@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The option sweep (a script, not yet a pytest test): each method option at 0, negative, tiny,
+"""The option sweep (run by tests/test_option_sweep.py in make check, or by hand): each method option at 0, negative, tiny,
 huge, overflowing and a plain valid value, in the methods it applies to and in those it does not,
 each run classified and flagged SUSPECT where the result or the message cannot be trusted.
 
@@ -157,20 +157,13 @@ EXTRA = [
 ]
 
 
-# SUSPECT causes already known (the issue's list, or documented in docs/methods.md): (flag kind, a regular
-# expression the command line matches, what is known[, a regular expression the flag's text matches])
+# SUSPECT causes that are documented behaviour: (flag kind, a regular expression the command line matches,
+# what is documented[, a regular expression the flag's text matches]). Every cause the issue-23 trial
+# listed is fixed (tests/test_promises.py); what remains is a gain of energy between 1% and 10% of the
+# run's energy, which the energy guard reports in its closing warning (docs/errors.md).
 KNOWN = [
-    ("energy", r"-nitsche_theta 0 .*-nitsche_gamma0 31\b", "known: Nitsche theta 0, gamma0 31 gains energy, exit 0"),
-    ("penetration", r"-penalty_eps (1e25|1e30|1)\b", "known: a large -penalty_eps sinks through, exit 0"),
-    ("energy", r"-dt 1e-30\b", "known: -dt 1e-30 exits 0 with a huge velocity"),
-    ("status-1", r"-dt 1e-(200|300)\b", "known: -dt 1e-200 exits 1"),
-    ("other-option", r"-scheme verlet", "known: Verlet's critical-step line names -penalty_eps whatever the contact"),
-    ("overflow", r"-nitsche_gamma0 1e(25|30)\b", "known: Nitsche's note overflows at gamma0 1e25"),
-    ("other-option", r"-newmark_gamma 0\.5000000000000001", "known: -newmark_gamma 0.5000000000000001 contradicts itself"),
-    ("no-effect", r"^FORCE=1 edp/run.sh (freeflight|spin) .*-contact (penalty|nitsche)", "known: -contact without a foundation"),
-    ("no-effect", r"-skip_free 0", "known: -skip_free 0 with Verlet or Nitsche, no warning"),
-    ("energy", r"-scheme newmark", "documented: classical Newmark gains energy under contact (docs/methods.md), with a warning "
-               "above 10%", r"with an energy warning"),
+    ("energy", r"", "documented: a gain of 1-10% of the run's energy ends in the energy guard's warning (docs/errors.md)",
+     r"with an energy warning"),
 ]
 
 
@@ -422,6 +415,7 @@ def main():
         print(f"SUSPECT {r['id']}: {r['cmd']}")
         for (kind, why), known in zip(r["flags"], r["known"]):
             print(f"    {kind}: {why}" + (f" ({known})" if known else ""))
+    sys.exit(1 if new else 0)
 
 
 def write_report(results, path, wall):
