@@ -35,14 +35,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from history import read_run, read_summary  # noqa: E402
+from history import error_lines, guard_stop, read_run, read_summary  # noqa: E402
 from methods import RUNNING_METHODS as METHODS  # noqa: E402 (the classical Newmark stops: not timed)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
-
-
-GUARD_LINE = "error: the modified energy grew from "
 
 
 def run_case(out_base, name, scene, args, allow_stop=False):
@@ -60,14 +57,13 @@ def run_case(out_base, name, scene, args, allow_stop=False):
     finally:
         jobs.finished(p)
     wall = time.perf_counter() - t0
-    errors = [line for line in log.splitlines() if line.startswith("error:")]
-    stopped = allow_stop and p.returncode == 4 and len(errors) == 1 and errors[0].startswith(GUARD_LINE)
+    stopped = allow_stop and p.returncode == 4 and guard_stop(log) is not None
     if p.returncode != 0 and not stopped:
         sys.exit(f"bench case {name} failed:\n{log}")
     h = read_run(out)
     summary = read_summary(out) if not stopped else {}     # (a stopped run has no summary.txt)
     steps = len(h["t"]) - 1
-    return {"case": name, "scene": scene, "args": " ".join(args), "wall_s": wall, "stopped": errors[0] if stopped else "",
+    return {"case": name, "scene": scene, "args": " ".join(args), "wall_s": wall, "stopped": error_lines(log)[0] if stopped else "",
             "cpu_s": usage.ru_utime + usage.ru_stime, "peak_MiB": usage.ru_maxrss / 1024, "steps": steps, "qp_steps": int(h["qp_solved"].sum()),
             "ms_per_step": 1000 * wall / steps, "history": h, "log": log,
             **{k: int(summary.get(k, 0)) for k in ("newton_iterations", "newton_retries", "gmres_iterations")}}

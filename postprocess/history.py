@@ -1,6 +1,7 @@
 """Read a run's history.csv and derive what the paper reports from it."""
 import csv
 import os
+import re
 
 import numpy as np
 
@@ -46,6 +47,22 @@ def energy_gain(h):
     work = e - m
     scale = np.maximum(max(abs(m[0]), e[0]), np.maximum.accumulate(np.abs(work - work[0])))
     return (m - m[0]) / np.where(scale > 0, scale, 1e-300)
+
+
+GUARD_RE = re.compile(r"^error: the modified energy grew from \S+ to \S+ by step (\d+) \(t = ([-+0-9.eE]+)\), ([0-9.]+)% of ")
+
+
+def error_lines(text):
+    """The lines of a run's output (stderr, or stdout and stderr together) that start with "error"."""
+    return [line for line in text.splitlines() if line.startswith("error")]
+
+
+def guard_stop(text):
+    """(step, t, gain in %) of a run the energy guard stopped (edp/lib/guards.idp): its output's one error
+    line is "error: the modified energy grew from A to B by step N (t = X), G% of ..."; None otherwise."""
+    lines = error_lines(text)
+    m = GUARD_RE.match(lines[0]) if len(lines) == 1 else None
+    return (int(m.group(1)), float(m.group(2)), float(m.group(3))) if m else None
 
 
 def contact_intervals(t, in_contact, min_gap=0.5):

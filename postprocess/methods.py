@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from history import contact_intervals, read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
+from history import contact_intervals, error_lines, guard_stop, read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -88,8 +88,8 @@ def run_one(out, test, method):
     wall = time.perf_counter() - t0
     with open(os.path.join(out, test, f"{method}.log"), "w") as f:
         f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
-    errors = [line for line in p.stderr.splitlines() if line.startswith("error")]
-    stopped = p.returncode == 4 and len(errors) == 1 and errors[0].startswith("error: the modified energy grew")
+    errors = error_lines(p.stderr)
+    stopped = p.returncode == 4 and guard_stop(p.stderr) is not None
     if not stopped and (p.returncode != 0 or not os.path.exists(os.path.join(run_dir, "summary.txt"))):
         err = " ".join(line.strip() for line in errors) or p.stderr.strip()
         raise Failure(f"{test}/{method} failed (exit {p.returncode}; see {test}/{method}.log): {err[:300]}")
@@ -146,10 +146,6 @@ def grid(n, w=3.2, h=2.4):
     return fig, axes[:n]
 
 
-def hist_end(runs, test, m):
-    return float(read_run(runs[(test, m)]["dir"])["t"][-1])
-
-
 def plot_test(runs, test, out):
     title = TESTS[test][2]
     colors = plt.cm.tab20(np.linspace(0, 1, len(MAKE_METHODS)))
@@ -199,7 +195,7 @@ def plot_test(runs, test, out):
             vmax = max(vmax, snaps[m]["vonmises"].max())
     for ax, m in zip(axes, MAKE_METHODS):
         if m not in snaps:
-            ax.text(0.5, 0.5, f"stopped by the energy guard\nat t = {hist_end(runs, test, m):g}", ha="center", va="center",
+            ax.text(0.5, 0.5, f"stopped by the energy guard\nat t = {hist[m]['t'][-1]:g}", ha="center", va="center",
                     fontsize=7, transform=ax.transAxes)
             ax.set_title(MAKE_METHODS[m][0], fontsize=6)
             ax.axis("off")

@@ -46,7 +46,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from history import contact_intervals, energy_gain, read_parameters, read_run  # noqa: E402
+from history import contact_intervals, energy_gain, guard_stop, read_parameters, read_run  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
@@ -122,7 +122,6 @@ FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast d
         # Neo-Hookean: v0y -5 (where SVK breaks at t = 0.95) must complete
         "neohookean v0y -5": "20"}
 BREAK_RE = re.compile(r"^error: newton failed at step (\d+), t = ([-+0-9.eE]+): (.*)$")
-GUARD_RE = re.compile(r"^error: the modified energy grew from \S+ to \S+ by step (\d+) \(t = ([-+0-9.eE]+)\), ([0-9.]+)% of ")
 GUARD_STOP = 0.1          # the energy guard's bound (edp/lib/guards.idp)
 
 
@@ -147,14 +146,6 @@ def svk_break(stderr):
     if not m:
         return None
     return int(m.group(1)), float(m.group(2)), m.group(3).split("; the retry")[0]
-
-
-def guard_stop(stderr):
-    """(step, t, gain in %) of a run the energy guard stopped: stderr is its one line
-    "error: the modified energy grew from A to B by step N (t = X), G% of ..."; None otherwise."""
-    lines = [line for line in stderr.strip().splitlines() if line.startswith("error")]
-    m = GUARD_RE.match(lines[0]) if len(lines) == 1 else None
-    return (int(m.group(1)), float(m.group(2)), float(m.group(3))) if m else None
 
 
 def case_args(name, horizon=None):
