@@ -3,7 +3,7 @@
 # usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M \
 #            -f numbers.awk -f check_checkpoint.awk FILE
 # Format (output.idp, writeCheckpoint): one header line
-#   checkpoint 5 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
+#   checkpoint 6 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
 #                TOPOLOGY PARAMETERS_CHECKSUM DATA_CHECKSUM MAXPEN_OUTSIDE
 #                ENERGY_GUARD_ON M0 SCALE0 WORK0 WORK_MAX GAIN_MAX GAIN_M GAIN_T   (guards.idp)
 # then u (NDOF values), v (NDOF values), the active set (NCONTACT values 0 or 1) and
@@ -20,7 +20,7 @@ BEGIN {
 }
 NR == 1 {
   if ($1 != "checkpoint") fail("checkpoint.txt is not a checkpoint (empty or corrupt)")
-  if ($2 != "5" || NF != 28) fail("checkpoint.txt has another format (written by another version); start a new run")
+  if ($2 != "6" || NF != 28) fail("checkpoint.txt has another format (written by another version); start a new run")
   if ($3 != scene) fail("it is a run of scene " $3 ", not " scene)
   if (!isint($4) || $4 + 0 < 1) fail("checkpoint.txt has no valid step ('" $4 "')")
   for (i = 5; i <= 28; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")

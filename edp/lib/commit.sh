@@ -15,7 +15,7 @@ set -u
 out=..
 unchanged="the output directory is unchanged"
 fail() { echo "error: $2"; exit "$1"; }
-run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh foundation.csv summary.txt checkpoint.txt"
+run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh foundation.csv summary.txt checkpoint.txt run.pvd"
 
 case "${1:-}" in
 prepare)
@@ -46,7 +46,7 @@ commit)
   [ "$lines" = $((1 + $2 + $3 + $4)) ] || fail 7 "cannot write mesh.msh in the output directory (disk full?); $unchanged"
   # from here on OUT changes: run.sh counts the run as started (history.csv is its own from now)
   : > .committed || fail 7 "cannot write into the staging directory (disk full?); $unchanged"
-  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
+  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
     f=${f##*/}
     if [ -e "$out/$f" ] && [ ! -e "$f" ]; then
       rm -f "$out/$f" 2>/dev/null || fail 7 "cannot remove the earlier run's $f from the output directory"
