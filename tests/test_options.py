@@ -95,6 +95,14 @@ BAD = [
     (["-snapshots", "1.23,1.24"], "-snapshots 1.23 is not a step time of -dt 0.05: the nearest are 1.2 and 1.25"),
     (["-snapshots", "1.25,1.250"], "-snapshots lists t = 1.25 twice"),
     (["-snapshots", "200"], "-snapshots must be in [0, T]"),
+    # issue 24: a regular grid of snapshot times, every:D with D a multiple of -dt
+    (["-snapshots", "every:0.07"], "-snapshots every:0.07 is not a multiple of -dt 0.05: the nearest are every:0.05 and every:0.1"),
+    (["-snapshots", "every:0.01"], "-snapshots every:0.01 is finer than -dt 0.05: the finest grid is every:0.05"),
+    (["-snapshots", "every:0"], "-snapshots every:D needs a spacing D > 0, got 'every:0'"),
+    (["-snapshots", "every:-0.5"], "-snapshots every:D needs a spacing D > 0, got 'every:-0.5'"),
+    (["-snapshots", "every:"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:'"),
+    (["-snapshots", "every:x"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:x'"),
+    (["-snapshots", "every:1e400"], "-snapshots must be a finite number of magnitude at most 1e+30, got 1e400"),
     # the body must not start inside the foundation
     (["-level", "100"], "the initial state penetrates the foundation by 96 at the vertex (0, 0)"),
     (["-u0y", "-5"], "the initial state penetrates the foundation by 5 at the vertex (0, 0)"),
