@@ -136,6 +136,21 @@ for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
     -material) material=${args[i + 1]} ;;
   esac
 done
+# The dimension is the mesh's (issue 25): a gmsh mesh with tetrahedra is a 3D body. The mesh is found as the
+# driver finds it: -mesh on the command line (relative to the caller's directory), the restarted run's, the
+# scene's line `meshFile = "...";` (relative to the repository), or the disk. A mesh that is not there is 2D
+# here, and the driver names what is wrong with it.
+mesh_file=$root/meshes/disk.msh
+scene_mesh=$(scene_code | sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/\1/p' | tail -n 1)
+[ -n "$scene_mesh" ] && { case "$scene_mesh" in /*) mesh_file=$scene_mesh ;; *) mesh_file=$root/$scene_mesh ;; esac; }
+[ -n "$restart_dir" ] && grep -q '^-mesh ' "$restart_dir/parameters.txt" && mesh_file=$(sed -n 's/^-mesh //p' "$restart_dir/parameters.txt" | tail -n 1)
+for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
+  if [ "${args[i]}" = -mesh ]; then case "${args[i + 1]}" in /*) mesh_file=${args[i + 1]} ;; *) mesh_file=$PWD/${args[i + 1]} ;; esac; fi
+done
+dimension=2
+# (MSH 2.2: in $Elements, each line is number, type, ...; types 4 and 11 are tetrahedra)
+[ -r "$mesh_file" ] && awk '/^\$Elements/ { on = 1; getline; next } /^\$EndElements/ { exit } on && ($2 == 4 || $2 == 11) { found = 1; exit }
+                           END { exit !found }' "$mesh_file" 2>/dev/null && dimension=3
 # as an integer (02 is 2); not one: 0, and the driver refuses -order itself
 if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 fe=P1
@@ -148,9 +163,12 @@ if ! MATERIAL=$material awk '!/^#/ && NF && $1 == ENVIRON["MATERIAL"] { found = 
                  END { s = a[0]; for (i = 1; i < n; i++) s = s (i == n - 1 ? " or " : ", ") a[i]; print s }' "$materials")
   err "-material must be $choices; got '$material'"
 fi
+# 3D (issue 25): the linear material only, so far (the non-linear ones' kinematics and Newton tangent are plane)
+[ "$dimension" = 3 ] && [ "$material" != linear ] &&
+  err "-material $material is not supported on a 3D body yet (the mesh $mesh_file has tetrahedra): use -material linear"
 [ -f "$here/lib/material_$material.idp" ] || err "edp/lib/materials.txt lists -material $material, but edp/lib/material_$material.idp is missing" 1
-{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\n' \
-    "$order" "$fe" "$material" > "$stage/compiled.idp" &&
+{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/dimension%s.idp"\n' \
+    "$order" "$fe" "$material" "$dimension" > "$stage/compiled.idp" &&
   printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/material_%s.idp"\n' \
     "$material" "$material" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.

@@ -7,7 +7,8 @@
 #       of expected_header.txt, rows 0..STEP complete and in order), the checkpoint
 #       run.sh copied (restart_checkpoint.txt), and the files restart_files.txt lists
 #       (the run's snapshots up to the checkpoint; each must be there)
-#   commit.sh commit NV NT NBE  check mesh.msh (1 + NV + NT + NBE lines), remove the
+#   commit.sh commit NV NT NBE [3]  check mesh.msh (1 + NV + NT + NBE lines; a 3D body's mesh.mesh: its
+#       closing line), remove the
 #       earlier run's files that the new run does not replace, move the staged files into OUT
 # One line "error: ..." on failure: exit 3 if the restart cannot continue, 7 if a
 # copy or a move fails (disk full?). Before the moves, OUT is untouched.
@@ -15,7 +16,7 @@ set -u
 out=..
 unchanged="the output directory is unchanged"
 fail() { echo "error: $2"; exit "$1"; }
-run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh foundation.csv summary.txt checkpoint.txt run.pvd"
+run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh mesh.mesh foundation.csv summary.txt checkpoint.txt run.pvd"
 
 case "${1:-}" in
 prepare)
@@ -42,8 +43,13 @@ prepare)
   rm -f expected_header.txt restart_files.txt
   ;;
 commit)
-  lines=$(wc -l < mesh.msh 2>/dev/null)
-  [ "$lines" = $((1 + $2 + $3 + $4)) ] || fail 7 "cannot write mesh.msh in the output directory (disk full?); $unchanged"
+  if [ "${5:-2}" = 3 ]; then      # a 3D body's mesh.mesh (medit): complete when its last line is "End"
+    [ "$(grep -v '^[[:space:]]*$' mesh.mesh 2>/dev/null | tail -n 1)" = End ] ||
+      fail 7 "cannot write mesh.mesh in the output directory (disk full?); $unchanged"
+  else
+    lines=$(wc -l < mesh.msh 2>/dev/null)
+    [ "$lines" = $((1 + $2 + $3 + $4)) ] || fail 7 "cannot write mesh.msh in the output directory (disk full?); $unchanged"
+  fi
   # from here on OUT changes: run.sh counts the run as started (history.csv is its own from now)
   : > .committed || fail 7 "cannot write into the staging directory (disk full?); $unchanged"
   for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
