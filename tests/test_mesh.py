@@ -131,8 +131,9 @@ DEFECTS = {
     "empty": (lambda: "", "the file is empty"),
     "tiny triangles": (tiny, "below the 1e-8 that FreeFEM's gmshload accepts"),
     # issue 19: before, run as the xy projection, or failing later as a singular system (exit 5)
-    "non-planar": (lambda: with_node(z="0.5"), "a 3D mesh: its nodes span z from 0 to 0.5, not one plane"),
-    "tetrahedron": (lambda: with_node(tetrahedron=True), "a 3D mesh: element 1977 is a volume element (type 4)"),
+    "non-planar": (lambda: with_node(z="0.5"), "its nodes span z from 0 to 0.5, not one plane, and it has no tetrahedra"),
+    # a tetrahedron makes it a 3D mesh (issue 25), checked as one: this one is flat
+    "tetrahedron": (lambda: with_node(tetrahedron=True), "tetrahedron 1977 is inverted or degenerate (volume 0)"),
     "every triangle clockwise": (all_clockwise, "every triangle is clockwise: the body's curve loop is drawn clockwise in its "
                                                  ".geo; reverse it"),
     "orphan node": (lambda: with_node(orphan=True), "node 990 (at 100, 100) is in no triangle: an orphan node"),

@@ -112,7 +112,7 @@ END {
   size = (xmax - xmin) + (ymax - ymin)
   cell = (dimension == 3) ? "tetrahedron" : "triangle"
   if (dimension != 3 && zmax - zmin > 1e-9 * size)
-    fail("a 3D mesh: its nodes span z from " zmin " to " zmax ", not one plane; the suite takes 2D meshes (gmsh -2 of a plane geometry)")
+    fail("its nodes span z from " zmin " to " zmax ", not one plane, and it has no tetrahedra: a plane body needs its nodes in one plane (gmsh -2 of a plane geometry), a 3D body a Volume meshed into tetrahedra (gmsh -3)")
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
     if ((k in pointElement) && pointPhysical[k] == 0) fail("node " k " (at " X[k] ", " Y[k] ") is a geometric point in no physical group (element " pointElement[k] ", e.g. an arc's centre) and in no triangle: the .geo defines no Physical groups, so gmsh saved every entity; add Physical Surface and Physical Curve lines to it")
     if (k in pointElement) fail("node " k " (at " X[k] ", " Y[k] ") of the point element " pointElement[k] " (a gmsh Physical Point) is in no " cell ": the point is off the body; move it onto the body or remove it")

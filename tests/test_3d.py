@@ -1,0 +1,207 @@
+"""A 3D body (issue 25): the ball of radius 20 on a flat and on a moving foundation surface, short runs
+on the coarse meshes/ball.msh. The scheme is the paper's, unchanged in 3D: the mid-point scheme (1)-(2),
+each step the variational inequality (4) under constraint (10), psi + psi_X1 u1 + psi_X2 u2 <= X3 + u3.
+Each test states the property it checks and the equation behind it."""
+import os
+import shutil
+from concurrent.futures import ThreadPoolExecutor
+
+import meshio
+import numpy as np
+import pytest
+
+from conftest import ROOT, error_lines, files_of, run_scene
+from golden import compare
+from history import read_run
+
+BALL = os.path.join(ROOT, "meshes", "ball.msh")
+QUIET = ["-progress", "0", "-snapshots", "none"]
+RUNS_3D = {
+    "fall": ("ball", ["-T", "8.5", "-solver", "activeset"] + QUIET),
+    "impact": ("ball", ["-T", "20", "-solver", "activeset"] + QUIET),
+    "impact_ipopt": ("ball", ["-T", "20", "-tol", "1e-10"] + QUIET),
+    "rest": ("ball", ["-u0z", "0", "-T", "60", "-solver", "activeset"] + QUIET),
+    "moving": ("ball_moving", ["-T", "20", "-t1", "14", "-solver", "activeset", "-progress", "0", "-snapshots", "every:1"]),
+    "moving_ipopt": ("ball_moving", ["-T", "16", "-t1", "14"] + QUIET),
+    "spin": ("ball", ["-foundation", "none", "-fz", "0", "-u0z", "0", "-spin", "0.05", "-T", "5"] + QUIET),
+    "f0": ("ball", ["-fz", "0", "-v0z", "-0.5", "-u0z", "1", "-T", "20", "-solver", "activeset"] + QUIET),
+    "lumped": ("ball", ["-mass", "lumped", "-T", "14", "-solver", "activeset"] + QUIET),
+    "penalty": ("ball", ["-contact", "penalty", "-T", "14"] + QUIET),
+}
+
+
+@pytest.fixture(scope="module")
+def runs3d(tmp_path_factory):
+    base = tmp_path_factory.mktemp("ball")
+    with ThreadPoolExecutor(2) as pool:
+        list(pool.map(lambda item: run_scene(item[1][0], base / item[0], item[1][1]), RUNS_3D.items()))
+    return {name: str(base / name) for name in RUNS_3D}
+
+
+@pytest.fixture(scope="module")
+def h3(runs3d):
+    return {name: read_run(d) for name, d in runs3d.items()}
+
+
+def ball_mass(out):
+    """rho = 1 times the volume of the run's mesh (mesh.mesh, medit: its Vertices and Tetrahedra)."""
+    lines = open(os.path.join(out, "mesh.mesh")).read().split("\n")
+    k = lines.index("Vertices")
+    nv = int(lines[k + 1])
+    xyz = np.array([[float(v) for v in lines[k + 2 + i].split()[:3]] for i in range(nv)])
+    k = lines.index("Tetrahedra")
+    nt = int(lines[k + 1])
+    tets = np.array([[int(v) - 1 for v in lines[k + 2 + i].split()[:4]] for i in range(nt)])
+    a, b, c, d = (xyz[tets[:, i]] for i in range(4))
+    return np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))).sum() / 6
+
+
+def test_free_fall_is_exact(h3):
+    """Before the impact (t < 8.94) the ball falls freely: the mid-point scheme integrates the rigid fall
+    exactly (f = (0, 0, -0.1), rho = 1): u3 = 4 - 0.05 t^2 and v3 = -0.1 t at every node, u1 = u2 = 0."""
+    h = h3["fall"]
+    t = h["t"]
+    assert np.abs(h["u3_low"] - (4 - 0.05 * t ** 2)).max() < 1e-10
+    assert np.abs(h["v3_low"] + 0.1 * t).max() < 1e-10 and np.abs(h["v3_mean"] + 0.1 * t).max() < 1e-10
+    assert np.abs(h["u3_mean"] - (4 - 0.05 * t ** 2)).max() < 1e-10
+    assert np.abs(h["u1_low"]).max() < 1e-10 and np.abs(h["u2_low"]).max() < 1e-10
+    assert (h["active_nodes"] == 0).all() and (h["contact_force_z"] == 0).all()
+
+
+def test_spinning_free_flight_keeps_the_energy(h3):
+    """Without foundation and load, the mid-point scheme conserves the discrete energy of a linear body
+    exactly (Section 2: (1)-(2) with f = 0 and no contact), here a ball spinning about X3 at 0.05."""
+    e = h3["spin"]["energy"]
+    assert e[0] > 1 and np.abs(e - e[0]).max() < 1e-12 * e[0]
+
+
+def test_momentum_balance_gives_the_contact_force_in_force_units(h3, runs3d):
+    """Eq. (1) against the unit vertical translation e3 (K e3 = 0): m (v3_mean^{n+1} - v3_mean^n) / dt =
+    -0.1 m + contact_force_z^{n+1}, to round-off, so contact_force_z is the total vertical force on the
+    body. On a ball left on the foundation under gravity its mean over the run is the weight, but for
+    the momentum left at T: mean F = m g + m (v3_mean(T) - v3_mean(0)) / T."""
+    for name in ("impact", "rest"):
+        h = h3[name]
+        m = ball_mass(runs3d[name])
+        dt = h["t"][1] - h["t"][0]
+        balance = m * np.diff(h["v3_mean"]) / dt - (-0.1 * m + h["contact_force_z"][1:])
+        assert np.abs(balance).max() < 1e-9 * 0.1 * m, (name, np.abs(balance).max())
+    h = h3["rest"]
+    m = ball_mass(runs3d["rest"])
+    weight = 0.1 * m
+    T = h["t"][-1]
+    mean = h["contact_force_z"][1:].mean()
+    assert abs(mean - (weight + m * (h["v3_mean"][-1] - h["v3_mean"][0]) / T)) < 1e-9 * weight
+    assert (h["active_nodes"][1:] > 0).all(), "the ball stays on the foundation"
+
+
+def test_modified_energy_never_rises_on_a_fixed_foundation(h3):
+    """Prop. 2 (w = u^n in (4)): on a fixed foundation the modified energy m^n = E^n - (f, u^n) does not
+    increase from one step to the next (to the solver's round-off), through the impact and the rebound."""
+    for name in ("impact", "rest", "f0", "lumped"):
+        m = h3[name]["modified_energy"]
+        assert np.diff(m).max() < 1e-9 * abs(m).max(), (name, np.diff(m).max())
+    assert h3["impact"]["active_nodes"].max() > 0
+
+
+def test_the_impact_bounces_the_ball(h3):
+    """The first impact of Test 1 in 3D: contact starts at t = sqrt(80) = 8.94 (the free fall of 4), the
+    foundation pushes the centre of mass back up (v3_mean > 0 after it) and the f = 0 impact loses little
+    energy (the mid-point scheme with (10) is dissipative only through the contact, Prop. 2)."""
+    h = h3["impact"]
+    first = h["t"][np.flatnonzero(h["contact_force_z"] > 0)[0]]
+    assert abs(first - np.sqrt(80)) < 0.05 + 1e-9
+    assert h["v3_mean"].max() > 0.2
+    e = h3["f0"]["energy"]
+    assert e[-1] <= e[0] * (1 + 1e-12) and e[-1] > 0.9 * e[0]
+
+
+def test_constraint_10_holds_at_every_contact_node(h3, runs3d):
+    """(10) psi + psi_X1 u1 + psi_X2 u2 <= X3 + u3 at every node of Gamma_C, on the moving foundation of
+    ball_moving (psi = c(t) cos(pi r / 60) - 2, lowered on [9, 14]): the history's largest violation is at
+    round-off for the active set and at IPOPT's tolerance, and an independent check from the snapshots'
+    nodes (run.pvd's .vtu files) with psi written here gives the same."""
+    assert h3["moving"]["max_penetration"].max() < 1e-9
+    assert h3["moving_ipopt"]["max_penetration"].max() < 1e-7
+    out = runs3d["moving"]
+
+    def c(t):
+        return 2.0 if t < 9 else (2 * np.cos(np.pi * (t - 9) / (2 * (14 - 9))) if t < 14 else 0.0)
+    worst = 0
+    for t in range(0, 21):
+        m = meshio.read(os.path.join(out, f"vonmises_t{t}.vtu"))
+        labels = np.concatenate(m.cell_data["Label"])
+        faces = m.cells_dict["triangle"][labels[len(m.cells_dict["tetra"]):] == 1]
+        nodes = np.unique(faces)
+        X, u = m.points[nodes].astype(float), m.point_data["displacement"][nodes]
+        # (the .vtu stores X in single precision: psi and its slope are evaluated at the float32 X)
+        r = np.hypot(X[:, 0], X[:, 1])
+        psi = c(t) * np.cos(np.pi * r / 60) - 2
+        slope = -c(t) * np.pi / 60 * np.sin(np.pi * r / 60) / np.where(r > 0, r, 1)
+        gap = X[:, 2] + u[:, 2] - (psi + slope * X[:, 0] * u[:, 0] + slope * X[:, 1] * u[:, 1])
+        worst = min(worst, gap.min())
+    assert worst > -1e-5, worst        # (X to float32: 20 * 6e-8)
+
+
+def test_activeset_and_ipopt_agree(h3):
+    """The same QP (4) solved exactly (active set) and by IPOPT to tol 1e-10 give the same motion."""
+    a, b = h3["impact"], h3["impact_ipopt"]
+    assert np.abs(a["u3_low"] - b["u3_low"]).max() < 1e-5
+    assert np.abs(a["energy"] - b["energy"]).max() < 1e-6 * a["energy"].max()
+
+
+def test_penalty_and_lumped_mass_run_in_3d(h3):
+    """The penalty method and the lumped mass act on vectors and matrices, so they carry over: the
+    penalty's penetration stays small (its eps = 1e-3 L/(lambda + 2 mu)), the lumped mass's (10) holds."""
+    assert 0 < h3["penalty"]["max_penetration"].max() < 0.05
+    assert h3["lumped"]["max_penetration"].max() < 1e-9 and h3["lumped"]["active_nodes"].max() > 0
+
+
+def test_ball_history_matches_golden(h3):
+    """The 3D Test 1 (ball, active set) to T = 20 against tests/golden/ball.csv."""
+    failures = compare(os.path.join(ROOT, "tests", "golden", "ball.csv"), h3["impact"])
+    assert not failures, "\n".join(failures)
+
+
+REFUSED = [
+    (["-material", "neohookean"], "-material neohookean is not supported on a 3D body yet"),
+    (["-order", "2"], "-order 2 is not supported on a 3D body"),
+    (["-contact", "nitsche"], "-contact nitsche is not supported on a 3D body"),
+    (["-contact", "penalty", "-contact_quadrature", "gauss"], "-contact_quadrature gauss is not supported on a 3D body"),
+    (["-foundation", "user"], "-foundation user is not supported on a 3D body"),
+    (["-probes", "0,0"], "-probes must be x,y,z triples on a 3D body, got 2 numbers"),
+    (["-reference", "0,0"], "-reference must be one x,y,z triple on a 3D body (or auto), got 2 numbers"),
+    (["-probes", "0,0,50"], "-probes (0, 0, 50) is outside the body"),
+    (["-u0z", "-1"], "the initial state penetrates the foundation by 1 at the vertex"),
+]
+
+
+@pytest.fixture(scope="module")
+def earlier_ball(tmp_path_factory):
+    out = tmp_path_factory.mktemp("earlier3d") / "run"
+    run_scene("ball", out, ["-T", "0.5", "-snapshots", "0,0.25", "-checkpoint_every", "5", "-progress", "0"])
+    return str(out)
+
+
+@pytest.mark.parametrize("args,message", REFUSED, ids=[" ".join(a) for a, _ in REFUSED])
+def test_3d_refusals_are_one_line_and_change_nothing(tmp_path, earlier_ball, args, message):
+    """What 3D does not support (yet), and bad 3D input, is one error line with exit 3, and the earlier
+    run in the directory stays byte-identical."""
+    out = tmp_path / "copy"
+    shutil.copytree(earlier_ball, out)
+    before = files_of(out)
+    p = run_scene("ball", out, args + ["-T", "1", "-progress", "0"], check=False)
+    assert p.returncode == 3, p.stderr
+    assert len(error_lines(p)) == 1 and message in error_lines(p)[0], p.stderr
+    assert files_of(out) == before
+
+
+def test_3d_restart_continues_the_same_history(tmp_path):
+    """A 3D run restarted from its checkpoint gives the uninterrupted history, bit for bit."""
+    args = ["-T", "10", "-solver", "activeset", "-checkpoint_every", "100"] + QUIET
+    first = tmp_path / "first"
+    run_scene("ball", first, args)
+    run_scene("ball", first, ["-restart", str(first), "-T", "12"] + QUIET[:2])
+    straight = tmp_path / "straight"
+    run_scene("ball", straight, ["-T", "12"] + args[2:])
+    assert open(first / "history.csv").read() == open(straight / "history.csv").read()
