@@ -157,3 +157,22 @@ def test_ffmpeg_failure(tiny_run, tmp_path):
     p = animate(run, "--mp4", env=fake_ffmpeg(tmp_path / "bin", 1))
     assert refused(p, 7), p.stderr
     assert files_of(run) == before
+
+
+def make(args):
+    """make ARGS in the repository, as a user types it (not as a sub-make of make check's make)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    return subprocess.run(["make", "--no-print-directory"] + args, cwd=ROOT, capture_output=True, text=True, env=env)
+
+
+def test_make_animation(tiny_run, tmp_path):
+    """make animation OUT=DIR writes DIR/animation.gif; without OUT (or with an empty one), make refuses in
+    one line naming OUT=DIR, exit 2, before it builds anything."""
+    run = copy_run(tiny_run, tmp_path)
+    p = make(["animation", f"OUT={run}"])
+    assert p.returncode == 0, p.stderr
+    assert (run / "animation.gif").exists()
+    for args in (["animation"], ["animation", "OUT="]):
+        p = make(args)
+        assert p.returncode == 2 and p.stdout == ""
+        assert len(p.stderr.splitlines()) == 1 and "make animation needs OUT=DIR" in p.stderr
