@@ -7,7 +7,7 @@ import meshio
 import pytest
 from PIL import Image
 
-from conftest import ROOT, files_of, run_scene
+from conftest import ROOT, files_of, make, run_scene
 from animate import colour_scale, draw, load_frames, series
 
 ANIMATE = [os.path.join(ROOT, "postprocess", "animate.py")]
@@ -157,12 +157,6 @@ def test_ffmpeg_failure(tiny_run, tmp_path):
     p = animate(run, "--mp4", env=fake_ffmpeg(tmp_path / "bin", 1))
     assert refused(p, 7), p.stderr
     assert files_of(run) == before
-
-
-def make(args):
-    """make ARGS in the repository, as a user types it (not as a sub-make of make check's make)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
-    return subprocess.run(["make", "--no-print-directory"] + args, cwd=ROOT, capture_output=True, text=True, env=env)
 
 
 def test_make_animation(tiny_run, tmp_path):
