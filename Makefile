@@ -141,9 +141,9 @@ $(RESULTS)/test1/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.ms
 $(RESULTS)/test2_t1_%/summary.txt: edp/scenes/test2.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
 	FORCE=1 $(RUN) test2 $(@D) -t1 $*
 
-# Test 1's first bounce as an animation: the fall, the impact (t = 9 to 24) and the rebound
+# Test 1's first bounce as an animation: the fall, the impact (t = 8.95 to 23.95) and the rebound to its peak (t = 31.1)
 $(RESULTS)/bounce/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
-	FORCE=1 $(RUN) test1 $(@D) -T 30 -snapshots every:0.5
+	FORCE=1 $(RUN) test1 $(@D) -T 32 -snapshots every:0.5
 $(FIGURES)/bounce.gif: $(RESULTS)/bounce/summary.txt postprocess/animate.py | deps-plot
 	@mkdir -p $(@D)
 	$(PYTHON) postprocess/animate.py --run $(<D) --out $@ --fps 8
