@@ -26,12 +26,12 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run test1 test2 figures check bench accuracy stress svk csm3 methods scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures check bench accuracy stress svk csm3 methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
-paper: test1 test2 figures
-	@echo "figures: $(FIGURES)/ (fig1..fig7, PNG and PDF)"
+paper: test1 test2 figures $(FIGURES)/bounce.gif
+	@echo "figures: $(FIGURES)/ (fig1..fig7, PNG and PDF; bounce.gif)"
 
 # ---- dependencies (Debian packages; see ../shared/notes/freefem-on-debian.md), in
 # three sets: running (deps-run), plotting (deps-plot), testing (deps-test).
@@ -58,7 +58,8 @@ deps-run:
 deps-plot: deps-run
 	$(call install_missing, \
 	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
-	$(PYTHON) -c 'import matplotlib' 2>/dev/null || missing="$$missing python3-matplotlib";)
+	$(PYTHON) -c 'import matplotlib' 2>/dev/null || missing="$$missing python3-matplotlib"; \
+	$(PYTHON) -c 'import meshio' 2>/dev/null || missing="$$missing python3-meshio";)
 deps-test: deps-plot
 	$(call install_missing, \
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
@@ -119,6 +120,17 @@ endif
 run: $(if $(RUN_MESH_GEO),$(RUN_MESH)) | deps-run
 	@$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
 
+# ---- an animation of a run: make animation OUT=<dir> writes <dir>/animation.gif, and animation.mp4 when
+# ffmpeg is on PATH (postprocess/animate.py; the run needs snapshots, e.g. ARGS="-snapshots every:0.25").
+# OUT must be given: without it, one line and make's `Stop.` (exit 2), before anything is built.
+ifneq ($(filter animation,$(MAKECMDGOALS)),)
+ifeq ($(if $(filter file,$(origin OUT)),,$(strip $(OUT))),)
+$(error make animation needs OUT=DIR, the run to animate (a directory with run.pvd), e.g. make animation OUT=$(RESULTS)/runs/test1)
+endif
+endif
+animation: | deps-plot
+	@$(PYTHON) postprocess/animate.py --run "$(OUT)" --mp4
+
 # ---- the paper's tests (results are rebuilt when the code or scene changes).
 # summary.txt is written last, so a killed run is never taken as up to date.
 test1: $(RESULTS)/test1/summary.txt
@@ -128,6 +140,13 @@ $(RESULTS)/test1/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.ms
 	FORCE=1 $(RUN) test1 $(@D)
 $(RESULTS)/test2_t1_%/summary.txt: edp/scenes/test2.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
 	FORCE=1 $(RUN) test2 $(@D) -t1 $*
+
+# Test 1's first bounce as an animation: the fall, the impact (t = 8.95 to 23.95) and the rebound to its peak (t = 31.1)
+$(RESULTS)/bounce/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.msh | deps-run
+	FORCE=1 $(RUN) test1 $(@D) -T 32 -snapshots every:0.5
+$(FIGURES)/bounce.gif: $(RESULTS)/bounce/summary.txt postprocess/animate.py | deps-plot
+	@mkdir -p $(@D)
+	$(PYTHON) postprocess/animate.py --run $(<D) --out $@ --fps 8
 
 figures: test1 test2 | deps-plot
 	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)

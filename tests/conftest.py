@@ -186,6 +186,13 @@ def run_scene(scene, out, args, check=True, env=None, **kwargs):
     return p
 
 
+def make(args, **kwargs):
+    """make ARGS in the repository, as a user types it (not as a sub-make of make check's make)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    env.update(kwargs.pop("env", {}))
+    return subprocess.run(["make"] + args, cwd=ROOT, capture_output=True, text=True, env=env, **kwargs)
+
+
 def error_lines(p):
     """The "error:" lines a run wrote on stderr."""
     return [line for line in p.stderr.splitlines() if line.startswith("error:")]

@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, error_lines, files_of, refused_into_copy, run_scene, square_mesh
+from conftest import ROOT, error_lines, files_of, make, refused_into_copy, run_scene, square_mesh
 from history import read_run, read_summary
 
 BAD = [
@@ -455,13 +455,6 @@ def test_make_run_builds_only_its_mesh_and_a_gmsh_error_is_one_line(tmp_path):
         for suffix in (".geo", ".msh", ".msh.log"):
             if os.path.exists(broken[:-4] + suffix):
                 os.remove(broken[:-4] + suffix)
-
-
-def make(args, **kwargs):
-    """make ARGS in the repository, as a user types it (not as a sub-make of make check's make)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
-    env.update(kwargs.pop("env", {}))
-    return subprocess.run(["make"] + args, cwd=ROOT, capture_output=True, text=True, env=env, **kwargs)
 
 
 MAKE_ERROR = re.compile(r"make: \*\*\* \[Makefile:[0-9]+: ([^]]+)\] Error ([0-9]+)")
