@@ -65,7 +65,8 @@ deps-test: deps-plot
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
 deps: deps-test
 
-# ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine);
+# ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine; gmsh -3 when the .geo has a
+# Physical Volume: a 3D body, docs/3d.md);
 # NAME_coarse, NAME_fine, NAME_refine4, NAME_refine8: refine 0.5, 2, 4, 8 (the paper's disk,
 # refine 1, has 989 vertices; refine 8 about 57,000)
 meshes: $(MESHES)
@@ -78,7 +79,8 @@ meshes/%_refine8.msh: REFINE = 8
 # "Error" line; the whole log stays in $@.log).
 define build_mesh
 	@echo "meshing $@ from $< (refine $(REFINE)) ..."
-	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
+	@dim=2; grep -q 'Physical Volume' $< && dim=3; \
+	gmsh -$$dim -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
 	trap 'kill $$pid 2>/dev/null; rm -f $@ $@.log; exit 130' INT TERM; \
 	while kill -0 $$pid 2>/dev/null; do sleep 1; waited=$$((waited + 1)); \
 	  [ $$((waited % 30)) = 0 ] && echo "meshing $@: $$waited s ..."; done; \
