@@ -163,14 +163,18 @@ if ! MATERIAL=$material awk '!/^#/ && NF && $1 == ENVIRON["MATERIAL"] { found = 
                  END { s = a[0]; for (i = 1; i < n; i++) s = s (i == n - 1 ? " or " : ", ") a[i]; print s }' "$materials")
   err "-material must be $choices; got '$material'"
 fi
-# 3D (issue 25): the linear material only, so far (the non-linear ones' kinematics and Newton tangent are plane)
-[ "$dimension" = 3 ] && [ "$material" != linear ] &&
-  err "-material $material is not supported on a 3D body yet (the mesh $mesh_file has tetrahedra): use -material linear"
+# 3D (issue 25): a material's 3D kinematics live in material_NAME3.idp (the linear one's in the dimension files)
+material_file=material_$material.idp
+if [ "$dimension" = 3 ] && [ "$material" != linear ]; then
+  material_file=material_${material}3.idp
+  [ -f "$here/lib/$material_file" ] ||
+    err "-material $material is not supported on a 3D body yet (the mesh $mesh_file has tetrahedra): use -material linear or neohookean"
+fi
 [ -f "$here/lib/material_$material.idp" ] || err "edp/lib/materials.txt lists -material $material, but edp/lib/material_$material.idp is missing" 1
 { printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/dimension%s.idp"\n' \
     "$order" "$fe" "$material" "$dimension" > "$stage/compiled.idp" &&
-  printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/material_%s.idp"\n' \
-    "$material" "$material" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
+  printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
+    "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
 cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
 # no banner
