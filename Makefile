@@ -26,7 +26,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures check bench accuracy stress svk csm3 methods scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check bench accuracy stress svk csm3 methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -149,6 +149,14 @@ $(RESULTS)/bounce/summary.txt: edp/scenes/test1.idp $(EDP_SOURCES) meshes/disk.m
 $(FIGURES)/bounce.gif: $(RESULTS)/bounce/summary.txt postprocess/animate.py | deps-plot
 	@mkdir -p $(@D)
 	$(PYTHON) postprocess/animate.py --run $(<D) --out $@ --fps 8
+
+# ---- the ball (docs/3d.md): Test 1 and Test 2 (t1 = 18, 22, 26) in 3D, and the analogues of Figs. 1-3, 5-6
+ball: $(RESULTS)/ball/summary.txt $(foreach t1,$(T1_VALUES),$(RESULTS)/ball_moving_t1_$(t1)/summary.txt) | deps-plot
+	$(PYTHON) postprocess/plot_ball.py --results $(RESULTS) --out $(FIGURES)
+$(RESULTS)/ball/summary.txt: edp/scenes/ball.idp $(EDP_SOURCES) meshes/ball.msh | deps-run
+	FORCE=1 $(RUN) ball $(@D)
+$(RESULTS)/ball_moving_t1_%/summary.txt: edp/scenes/ball_moving.idp $(EDP_SOURCES) meshes/ball.msh | deps-run
+	FORCE=1 $(RUN) ball_moving $(@D) -t1 $* -snapshots none
 
 figures: test1 test2 | deps-plot
 	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)

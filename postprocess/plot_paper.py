@@ -25,15 +25,16 @@ def save(fig, out, name):
     plt.close(fig)
 
 
-def plot_low_point(runs, reference, out, name, title):
+def plot_low_point(runs, reference, out, name, title, vertical="u2", lowest="(0, 0)"):
+    """u_vertical and alpha at the lowest point (vertical: u2 of the disk, u3 of a 3D ball)."""
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4))
     for label, h in runs:
-        ax1.plot(h["t"], h["u2_low"], label=label)
+        ax1.plot(h["t"], h[f"{vertical}_low"], label=label)
         ax2.plot(h["t"], h["contact_pressure_low"], label=label, lw=0.8)
     if reference is not None:
         ax1.plot(reference["t"], reference["u2_low"], "k--", lw=0.8, label="GetFEM reference (Verlet-Nitsche)")
-    ax1.set(xlabel="t", ylabel="u2 at (0, 0)", title=f"{title}: vertical displacement at the lowest point")
-    ax2.set(xlabel="t", ylabel="contact stress alpha at (0, 0)", title=f"{title}: contact stress at the lowest point")
+    ax1.set(xlabel="t", ylabel=f"{vertical} at {lowest}", title=f"{title}: vertical displacement at the lowest point")
+    ax2.set(xlabel="t", ylabel=f"contact stress alpha at {lowest}", title=f"{title}: contact stress at the lowest point")
     ax1.legend(fontsize=8)
     ax2.legend(fontsize=8)
     save(fig, out, name)
