@@ -193,6 +193,14 @@ def make(args, **kwargs):
     return subprocess.run(["make"] + args, cwd=ROOT, capture_output=True, text=True, env=env, **kwargs)
 
 
+def run_scenes(base, runs):
+    """Every run of runs (name: (scene, args)) into base/name, two at a time; returns name: directory."""
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(2) as pool:
+        list(pool.map(lambda item: run_scene(item[1][0], base / item[0], item[1][1]), runs.items()))
+    return {name: str(base / name) for name in runs}
+
+
 def error_lines(p):
     """The "error:" lines a run wrote on stderr."""
     return [line for line in p.stderr.splitlines() if line.startswith("error:")]

@@ -5,13 +5,12 @@ Each test states the property it checks and the equation behind it."""
 import os
 import shutil
 import subprocess
-from concurrent.futures import ThreadPoolExecutor
 
 import meshio
 import numpy as np
 import pytest
 
-from conftest import ROOT, error_lines, files_of, run_scene
+from conftest import ROOT, error_lines, files_of, run_scene, run_scenes
 from golden import compare
 from history import read_run
 
@@ -37,10 +36,7 @@ RUNS_3D = {
 
 @pytest.fixture(scope="module")
 def runs3d(tmp_path_factory):
-    base = tmp_path_factory.mktemp("ball")
-    with ThreadPoolExecutor(2) as pool:
-        list(pool.map(lambda item: run_scene(item[1][0], base / item[0], item[1][1]), RUNS_3D.items()))
-    return {name: str(base / name) for name in RUNS_3D}
+    return run_scenes(tmp_path_factory.mktemp("ball"), RUNS_3D)
 
 
 @pytest.fixture(scope="module")

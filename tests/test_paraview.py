@@ -8,13 +8,12 @@ eq. (6) there; the foundation dataset must be psi(X1, t) of foundation.csv."""
 import os
 import re
 import xml.etree.ElementTree as ET
-from concurrent.futures import ThreadPoolExecutor
 
 import meshio
 import numpy as np
 import pytest
 
-from conftest import COARSE, files_of, run_scene
+from conftest import COARSE, files_of, run_scene, run_scenes
 from history import read_run
 
 EVERY = ["-snapshots", "every:2", "-progress", "0"]
@@ -32,10 +31,7 @@ SERIES_RUNS = {
 
 @pytest.fixture(scope="module")
 def series_runs(tmp_path_factory):
-    base = tmp_path_factory.mktemp("series")
-    with ThreadPoolExecutor(2) as pool:
-        list(pool.map(lambda item: run_scene(item[1][0], base / item[0], item[1][1]), SERIES_RUNS.items()))
-    return {name: str(base / name) for name in SERIES_RUNS}
+    return run_scenes(tmp_path_factory.mktemp("series"), SERIES_RUNS)
 
 
 def read_series(out):
