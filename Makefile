@@ -67,7 +67,8 @@ deps: deps-test
 
 # ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine);
 # NAME_coarse, NAME_fine, NAME_refine4, NAME_refine8: refine 0.5, 2, 4, 8 (the paper's disk,
-# refine 1, has 989 vertices; refine 8 about 57,000)
+# refine 1, has 989 vertices; refine 8 about 57,000). A .geo whose first line is `// dimension 3`
+# is meshed with gmsh -3 (tetrahedra), every other one with gmsh -2.
 meshes: $(MESHES)
 REFINE = 1
 meshes/%_coarse.msh: REFINE = 0.5
@@ -78,7 +79,8 @@ meshes/%_refine8.msh: REFINE = 8
 # "Error" line; the whole log stays in $@.log).
 define build_mesh
 	@echo "meshing $@ from $< (refine $(REFINE)) ..."
-	@gmsh -2 -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
+	@dimension=2; [ "$$(head -n 1 $<)" = "// dimension 3" ] && dimension=3; \
+	gmsh -$$dimension -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
 	trap 'kill $$pid 2>/dev/null; rm -f $@ $@.log; exit 130' INT TERM; \
 	while kill -0 $$pid 2>/dev/null; do sleep 1; waited=$$((waited + 1)); \
 	  [ $$((waited % 30)) = 0 ] && echo "meshing $@: $$waited s ..."; done; \

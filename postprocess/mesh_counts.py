@@ -1,8 +1,11 @@
-"""Print the vertex, triangle and boundary-segment counts of an MSH 2.2 mesh."""
+"""Print the vertex, element and labelled boundary-element counts of an MSH 2.2 mesh: for a 2D mesh
+triangles and the segments of Gamma_C, Gamma_N and Gamma_D (labels 1, 2, 3); for a 3D mesh (one with
+tetrahedra) tetrahedra and the boundary triangles with those labels."""
 import sys
 
 
-def msh22_counts(path):
+def element_counts(path):
+    """(vertices, {(gmsh element type, physical tag): count}) of an MSH 2.2 file."""
     lines = open(path).read().split("\n")
     nodes = int(lines[lines.index("$Nodes") + 1])
     k = lines.index("$Elements")
@@ -11,12 +14,27 @@ def msh22_counts(path):
         fields = line.split()
         elem_type, tag = int(fields[1]), int(fields[3])
         counts[(elem_type, tag)] = counts.get((elem_type, tag), 0) + 1
+    return nodes, counts
+
+
+def msh22_counts(path):
+    """A 2D mesh: vertices, triangles, segments labelled 1, 2 and 3."""
+    nodes, counts = element_counts(path)
     triangles = sum(n for (t, _), n in counts.items() if t == 2)
     return nodes, triangles, counts.get((1, 1), 0), counts.get((1, 2), 0), counts.get((1, 3), 0)
 
 
+def msh22_counts3(path):
+    """A 3D mesh: vertices, tetrahedra, boundary triangles labelled 1, 2 and 3."""
+    nodes, counts = element_counts(path)
+    tetrahedra = sum(n for (t, _), n in counts.items() if t == 4)
+    return nodes, tetrahedra, counts.get((2, 1), 0), counts.get((2, 2), 0), counts.get((2, 3), 0)
+
+
 if __name__ == "__main__":
     for path in sys.argv[1:]:
-        v, t, c, n, d = msh22_counts(path)
+        three = any(t == 4 for t, _ in element_counts(path)[1])
+        v, e, c, n, d = (msh22_counts3 if three else msh22_counts)(path)
+        cells, faces = ("tetrahedra", "triangles") if three else ("triangles", "segments")
         clamped = f", {d} on Gamma_D (label 3)" if d else ""
-        print(f"{path}: {v} vertices, {t} triangles, {c} segments on Gamma_C (label 1), {n} on Gamma_N (label 2){clamped}")
+        print(f"{path}: {v} vertices, {e} {cells}, {c} {faces} on Gamma_C (label 1), {n} on Gamma_N (label 2){clamped}")
