@@ -4,17 +4,29 @@ tetrahedra) tetrahedra and the boundary triangles with those labels."""
 import sys
 
 
-def element_counts(path):
-    """(vertices, {(gmsh element type, physical tag): count}) of an MSH 2.2 file."""
+def msh22_read(path):
+    """An MSH 2.2 file's nodes, [(x, y, z)] in file order, and its elements,
+    {(gmsh element type, physical tag): [their nodes' indices into that list]}."""
     lines = open(path).read().split("\n")
-    nodes = int(lines[lines.index("$Nodes") + 1])
-    k = lines.index("$Elements")
-    counts = {}
+    k = lines.index("$Nodes")
+    index, nodes = {}, []
     for line in lines[k + 2:k + 2 + int(lines[k + 1])]:
         fields = line.split()
-        elem_type, tag = int(fields[1]), int(fields[3])
-        counts[(elem_type, tag)] = counts.get((elem_type, tag), 0) + 1
-    return nodes, counts
+        index[fields[0]] = len(nodes)
+        nodes.append(tuple(float(x) for x in fields[1:4]))
+    k = lines.index("$Elements")
+    elements = {}
+    for line in lines[k + 2:k + 2 + int(lines[k + 1])]:
+        fields = line.split()
+        elem_type, n_tags = int(fields[1]), int(fields[2])
+        elements.setdefault((elem_type, int(fields[3])), []).append([index[f] for f in fields[3 + n_tags:]])
+    return nodes, elements
+
+
+def element_counts(path):
+    """(vertices, {(gmsh element type, physical tag): count}) of an MSH 2.2 file."""
+    nodes, elements = msh22_read(path)
+    return len(nodes), {key: len(e) for key, e in elements.items()}
 
 
 def msh22_counts(path):
