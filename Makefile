@@ -10,13 +10,13 @@ SCENE ?= test1
 # make run writes here by default: a directory no other target owns
 OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
-# runs at a time in make svk, methods and csm3 (the machine has 2 cores); a positive integer, checked when one
+# runs at a time in make svk, methods, csm3 and hertz (the machine has 2 cores); a positive integer, checked when one
 # of them is a goal, before anything is built or removed: one line naming JOBS (make's `*** ... Stop.`, exit 2)
 JOBS ?= 2
-ifneq ($(filter svk methods csm3,$(MAKECMDGOALS)),)
+ifneq ($(filter svk methods csm3 hertz,$(MAKECMDGOALS)),)
 JOBS_NOT_DIGITS := $(subst 9,,$(subst 8,,$(subst 7,,$(subst 6,,$(subst 5,,$(subst 4,,$(subst 3,,$(subst 2,,$(subst 1,,$(subst 0,,$(JOBS)))))))))))
 ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOBS))),positive)),1 positive)
-$(error JOBS must be a positive integer (runs at a time of make svk, methods and csm3), got '$(JOBS)')
+$(error JOBS must be a positive integer (runs at a time of make svk, methods, csm3 and hertz), got '$(JOBS)')
 endif
 endif
 T1_VALUES := 18 22 26
@@ -26,7 +26,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures check bench accuracy stress svk csm3 methods scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures check bench accuracy stress svk csm3 hertz methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -186,6 +186,11 @@ methods: meshes | deps-plot
 # mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md
 csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
 	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3 --jobs $(JOBS)
+
+# ---- the 3D ball's impact on a rigid flat against Hertz's theory, at three speeds, two meshes and two dt
+# (issue 25; see postprocess/hertz.py, docs/hertz.md); results/hertz/summary.md
+hertz: meshes/hertz.msh meshes/hertz_coarse.msh | deps-plot
+	$(PYTHON) postprocess/hertz.py --out $(RESULTS)/hertz --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment
 scenes:
