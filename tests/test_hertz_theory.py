@@ -1,5 +1,6 @@
 """Hertz's impact theory of postprocess/hertz.py (issue 25, item 8; docs/hertz.md) and make hertz's
 analysis, on exact Hertz histories: fast, no FreeFEM."""
+import csv
 import math
 import os
 import subprocess
@@ -138,19 +139,23 @@ MESHES = [os.path.join(ROOT, m) for m in hertz.MESHES.values()]
 @pytest.mark.skipif(not all(os.path.exists(m) for m in MESHES), reason="meshes/hertz*.msh not built (make meshes)")
 def test_report_of_exact_runs(tmp_path):
     """make hertz's report (summary.md, hertz.csv, hertz.png/.pdf) on history.csv files with the 3D driver's
-    columns holding Hertz's exact impact, one per case: every run matches Hertz, and the targets hold."""
+    columns holding Hertz's exact impact, one per case: every run matches Hertz, and the targets hold; a run
+    the driver refused (the singular mass) is named below the tables."""
     for case, (ratio, mesh, n, mass) in hertz.CASES.items():
         h = impact(ratio)
         write_history(tmp_path / case, hertz.exact_history(h, *hertz.time_grid(h, n)))
     text = hertz.report(str(tmp_path), list(hertz.CASES))
     assert text.count("| Hertz |") == 3 and text.count("holds") == 4 and "misses" not in text
-    rows = list(__import__("csv").DictReader(open(tmp_path / "hertz.csv")))
+    rows = list(csv.DictReader(open(tmp_path / "hertz.csv")))
     assert len(rows) == len(hertz.CASES)
     for row in rows:
         assert float(row["contact_time"]) == pytest.approx(float(row["T_H"]), rel=1e-4)
         assert float(row["peak_force"]) == pytest.approx(float(row["F_star"]), rel=1e-4)
     for ext in ("png", "pdf"):
         assert (tmp_path / f"hertz.{ext}").stat().st_size > 0
+    refused = {"1e-03_default_100_singular": "exit 3: error: -mass singular: ..."}
+    text = hertz.report(str(tmp_path), [c for c in hertz.CASES if c not in refused], refused)
+    assert "- 1e-03_default_100_singular: exit 3: error: -mass singular: ..." in text and text.count("holds") == 4
 
 
 def test_missing_scene_is_one_error_line(tmp_path):
