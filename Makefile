@@ -10,23 +10,23 @@ SCENE ?= test1
 # make run writes here by default: a directory no other target owns
 OUT ?= $(RESULTS)/runs/$(SCENE)
 ARGS ?=
-# runs at a time in make svk, methods and csm3 (the machine has 2 cores); a positive integer, checked when one
+# runs at a time in make svk, methods, csm3 and hertz (the machine has 2 cores); a positive integer, checked when one
 # of them is a goal, before anything is built or removed: one line naming JOBS (make's `*** ... Stop.`, exit 2)
 JOBS ?= 2
-ifneq ($(filter svk methods csm3,$(MAKECMDGOALS)),)
+ifneq ($(filter svk methods csm3 hertz,$(MAKECMDGOALS)),)
 JOBS_NOT_DIGITS := $(subst 9,,$(subst 8,,$(subst 7,,$(subst 6,,$(subst 5,,$(subst 4,,$(subst 3,,$(subst 2,,$(subst 1,,$(subst 0,,$(JOBS)))))))))))
 ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOBS))),positive)),1 positive)
-$(error JOBS must be a positive integer (runs at a time of make svk, methods and csm3), got '$(JOBS)')
+$(error JOBS must be a positive integer (runs at a time of make svk, methods, csm3 and hertz), got '$(JOBS)')
 endif
 endif
 T1_VALUES := 18 22 26
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)
 RUN := edp/run.sh
-# every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one
-MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh
+# every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
+MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check bench accuracy stress svk csm3 methods scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check bench accuracy stress svk csm3 hertz methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -65,22 +65,27 @@ deps-test: deps-plot
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
 deps: deps-test
 
-# ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine; gmsh -3 when the .geo has a
-# Physical Volume: a 3D body, docs/3d.md);
+# ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine);
 # NAME_coarse, NAME_fine, NAME_refine4, NAME_refine8: refine 0.5, 2, 4, 8 (the paper's disk,
-# refine 1, has 989 vertices; refine 8 about 57,000)
+# refine 1, has 989 vertices; refine 8 about 57,000). A .geo whose first line is `// dimension 3`,
+# or that has a Physical Volume, is meshed with gmsh -3 (tetrahedra: a 3D body, docs/3d.md),
+# every other one with gmsh -2.
 meshes: $(MESHES)
 REFINE = 1
 meshes/%_coarse.msh: REFINE = 0.5
 meshes/%_fine.msh: REFINE = 2
 meshes/%_refine4.msh: REFINE = 4
 meshes/%_refine8.msh: REFINE = 8
+# the Hertz ball (hertz.geo includes ball.geo): its coarse variant, for tests and make hertz's second
+# mesh, is refine 0.3 (366 vertices; refine 0.5 would give 1119)
+meshes/hertz_coarse.msh: REFINE = 0.3
+meshes/hertz.msh meshes/hertz_coarse.msh: meshes/ball.geo
 # One line while gmsh works (and every 30 s on a long build), one line on a gmsh error (its first
 # "Error" line; the whole log stays in $@.log).
 define build_mesh
 	@echo "meshing $@ from $< (refine $(REFINE)) ..."
-	@dim=2; grep -q 'Physical Volume' $< && dim=3; \
-	gmsh -$$dim -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
+	@dimension=2; { [ "$$(head -n 1 $<)" = "// dimension 3" ] || grep -q 'Physical Volume' $<; } && dimension=3; \
+	gmsh -$$dimension -format msh22 -nt 1 -setnumber refine $(REFINE) $< -o $@ > $@.log 2>&1 & pid=$$!; waited=0; \
 	trap 'kill $$pid 2>/dev/null; rm -f $@ $@.log; exit 130' INT TERM; \
 	while kill -0 $$pid 2>/dev/null; do sleep 1; waited=$$((waited + 1)); \
 	  [ $$((waited % 30)) = 0 ] && echo "meshing $@: $$waited s ..."; done; \
@@ -190,6 +195,11 @@ methods: meshes | deps-plot
 # mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md
 csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
 	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3 --jobs $(JOBS)
+
+# ---- the 3D ball's impact on a rigid flat against Hertz's theory, at three speeds, two meshes and two dt
+# (issue 25; see postprocess/hertz.py, docs/hertz.md); results/hertz/summary.md
+hertz: meshes/hertz.msh meshes/hertz_coarse.msh | deps-plot
+	$(PYTHON) postprocess/hertz.py --out $(RESULTS)/hertz --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment
 scenes:

@@ -502,7 +502,7 @@ def test_make_run_of_a_mesh_gmsh_cannot_build_is_its_line_and_makes(tmp_path):
                 os.remove(broken[:-4] + suffix)
 
 
-@pytest.mark.parametrize("target", ["svk", "methods", "csm3"])
+@pytest.mark.parametrize("target", ["svk", "methods", "csm3", "hertz"])
 @pytest.mark.parametrize("jobs", ["0", "-1", "two", "1.5", ""])
 def test_make_study_with_a_bad_jobs_is_one_line_naming_jobs(tmp_path, target, jobs):
     """Issue: make methods JOBS=0 ended in a Python traceback (ThreadPoolExecutor's max_workers), after it
@@ -519,10 +519,10 @@ def test_make_study_with_a_bad_jobs_is_one_line_naming_jobs(tmp_path, target, jo
     assert (results / target / "summary.md").read_text() == "an earlier run's summary\n"
 
 
-@pytest.mark.parametrize("script", ["svk_compare.py", "methods.py", "csm3.py"])
+@pytest.mark.parametrize("script", ["svk_compare.py", "methods.py", "csm3.py", "hertz.py"])
 @pytest.mark.parametrize("jobs", ["0", "-3", "two"])
 def test_study_script_with_a_bad_jobs_is_one_line(tmp_path, script, jobs):
-    """The scripts behind make svk, methods and csm3 refuse a --jobs that is not a positive integer with
+    """The scripts behind make svk, methods, csm3 and hertz refuse a --jobs that is not a positive integer with
     one line naming --jobs (argparse, without its usage line), exit 2, no traceback, and leave the earlier
     summary in place."""
     (tmp_path / "summary.md").write_text("an earlier run's summary\n")
