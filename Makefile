@@ -77,7 +77,7 @@ meshes/%_fine.msh: REFINE = 2
 meshes/%_refine4.msh: REFINE = 4
 meshes/%_refine8.msh: REFINE = 8
 # the Hertz ball (hertz.geo includes ball.geo): its coarse variant, for tests and make hertz's second
-# mesh, is refine 0.3 (366 vertices; refine 0.5 would give 1119)
+# mesh, is refine 0.3 (534 vertices)
 meshes/hertz_coarse.msh: REFINE = 0.3
 meshes/hertz.msh meshes/hertz_coarse.msh: meshes/ball.geo
 # One line while gmsh works (and every 30 s on a long build), one line on a gmsh error (its first

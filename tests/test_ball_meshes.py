@@ -15,7 +15,7 @@ from mesh_counts import msh22_read
 
 R = 20.0
 # mesh: (fewest, most vertices)
-MESHES = {"ball.msh": (500, 1500), "hertz.msh": (6000, 8000), "hertz_coarse.msh": (200, 600)}
+MESHES = {"ball.msh": (500, 1500), "hertz.msh": (10000, 13000), "hertz_coarse.msh": (300, 800)}
 
 
 def load(name):
