@@ -179,9 +179,11 @@ def test_penalty_and_lumped_mass_run_in_3d(h3):
     assert h3["lumped"]["max_penetration"].max() < 1e-9 and h3["lumped"]["active_nodes"].max() > 0
 
 
-def test_ball_history_matches_golden(h3):
-    """The 3D Test 1 (ball, active set) to T = 20 against tests/golden/ball.csv."""
-    failures = compare(os.path.join(ROOT, "tests", "golden", "ball.csv"), h3["impact"])
+@pytest.mark.parametrize("golden,run", [("ball", "impact"), ("ball_moving", "moving")])
+def test_3d_histories_match_golden(h3, golden, run):
+    """Test 1 and Test 2 in 3D (ball and ball_moving with t1 = 14, active set) to T = 20 against
+    tests/golden/ball.csv and ball_moving.csv."""
+    failures = compare(os.path.join(ROOT, "tests", "golden", f"{golden}.csv"), h3[run])
     assert not failures, "\n".join(failures)
 
 
