@@ -81,8 +81,9 @@ def main():
     ball = os.path.join(a.results, "ball")
     h1 = read_run(ball)
     lowest = "(0, 0, 0)"
-    plot_low_point([("ball, mid-point + IPOPT", h1)], None, a.out, "ball_fig1_low_point", "Test 1 in 3D", "u3", lowest)
-    plot_energy([("ball, mid-point + IPOPT", h1)], None, a.out, "ball_fig2_energy", "Test 1 in 3D")
+    plot_low_point([("ball, mid-point + active set", h1)], None, a.out, "ball_fig1_low_point", "Test 1 in 3D", "u3",
+                   lowest)
+    plot_energy([("ball, mid-point + active set", h1)], None, a.out, "ball_fig2_energy", "Test 1 in 3D")
     plot_cut_and_contact(ball, a.out, "ball_fig3_von_mises", "Test 1 in 3D: von Mises on the plane X2 = 0, and the "
                          "contact zone")
     runs = [("fixed foundation (ball)", h1)]
