@@ -243,13 +243,67 @@ def test_neohookean_tangent_and_energy_identity_at_a_random_state(seed):
     assert float(v["inverted"][0]) >= 1e300 and v["inverted"][1] == "1"
 
 
+BUMP = '''// a Gaussian bump under the ball, off its axis (scene macros: -foundation user on a 3D body)
+meshFile = "meshes/ball.msh";
+foundation = "user";
+fy = 0;
+fz = -0.1;
+u0y = 0;
+u0z = 4;
+snapshots = "none";
+macro userFoundationPsi3(X1, X2, t) (-1 + 1.5 * exp(-((X1 - 4)^2 + X2^2) / 50)) // EOM
+macro userFoundationDpsiX1(X1, X2, t) (-0.06 * (X1 - 4) * exp(-((X1 - 4)^2 + X2^2) / 50)) // EOM
+macro userFoundationDpsiX2(X1, X2, t) (DPSI2) // EOM
+'''
+
+
+def test_a_scene_foundation_surface_pushes_the_ball_away(tmp_path):
+    """A scene's psi(X1, X2, t) with its gradient (-foundation user, 3D): a bump centred at X1 = 4 under the
+    ball's lowest point slopes up towards +X1 there, so the contact pushes the ball towards -X1, while
+    (10) holds at every contact node and the modified energy does not rise (Prop. 2, fixed foundation)."""
+    scene = tmp_path / "bump3.idp"
+    scene.write_text(BUMP.replace("DPSI2", "-0.06 * X2 * exp(-((X1 - 4)^2 + X2^2) / 50)"))
+    out = tmp_path / "out"
+    run_scene(str(scene), out, ["-T", "14", "-solver", "activeset", "-progress", "0"])
+    h = read_run(str(out))
+    assert h["active_nodes"].max() > 0 and h["max_penetration"].max() < 1e-9
+    assert h["v1_mean"][-1] < -1e-3 and abs(h["v2_mean"][-1]) < 0.1 * abs(h["v1_mean"][-1])
+    assert np.diff(h["modified_energy"]).max() < 1e-9 * abs(h["modified_energy"]).max()
+
+
+@pytest.mark.parametrize("dpsi2,message", [
+    ("0", "userFoundationDpsiX2 is not the derivative of userFoundationPsi3 in X2"),
+    ("-0.06 * X2 * exp(-((X1 - 4)^2 + X2^2) / 50)", None),
+])
+def test_a_scene_foundation_surface_is_checked(tmp_path, dpsi2, message):
+    """The 2D checks of a scene's psi carry over to 3D: its gradient must be that of a central difference in
+    X1 and in X2 over the region Gamma_C sweeps, or the run is refused in one line (exit 3); a correct one runs."""
+    scene = tmp_path / "bump3.idp"
+    scene.write_text(BUMP.replace("DPSI2", dpsi2))
+    p = run_scene(str(scene), tmp_path / "out", ["-T", "0.1", "-progress", "0"], check=False)
+    if message is None:
+        assert p.returncode == 0, p.stderr
+    else:
+        assert p.returncode == 3 and len(error_lines(p)) == 1 and message in error_lines(p)[0], p.stderr
+
+
+def test_a_moving_scene_surface_must_be_declared_moving(tmp_path):
+    """A psi(X1, X2, t) that changes with t in a scene that does not declare it moving is refused: a fixed
+    foundation keeps the rows of (10) of t = 0."""
+    scene = tmp_path / "sinking.idp"
+    scene.write_text(BUMP.replace("DPSI2", "-0.06 * X2 * exp(-((X1 - 4)^2 + X2^2) / 50)")
+                     .replace("(-1 + 1.5 * exp", "(-1 - 0.01 * t + 1.5 * exp"))
+    p = run_scene(str(scene), tmp_path / "out", ["-T", "1", "-progress", "0"], check=False)
+    assert p.returncode == 3 and "userFoundationPsi3 changes with t" in p.stderr and "foundationMoving = 1" in p.stderr
+
+
 REFUSED = [
     (["-material", "svk"], "-material svk is not supported on a 3D body yet"),
     (["-material", "neohookean", "-newton_precond", "step"], "-newton_precond step is not supported on a 3D body"),
     (["-order", "2"], "-order 2 is not supported on a 3D body"),
     (["-contact", "nitsche"], "-contact nitsche is not supported on a 3D body"),
     (["-contact", "penalty", "-contact_quadrature", "gauss"], "-contact_quadrature gauss is not supported on a 3D body"),
-    (["-foundation", "user"], "-foundation user is not supported on a 3D body"),
+    (["-foundation", "user"], "-foundation user on a 3D body needs the scene to define macros userFoundationPsi3"),
     (["-probes", "0,0"], "-probes must be x,y,z triples on a 3D body, got 2 numbers"),
     (["-reference", "0,0"], "-reference must be one x,y,z triple on a 3D body (or auto), got 2 numbers"),
     (["-probes", "0,0,50"], "-probes (0, 0, 50) is outside the body"),
