@@ -112,6 +112,17 @@ NEOHOOKEAN = ["dt 1", "v0y -5", "soft lambda = mu = 3", "fast drop t1 = t0 + 0.5
 for _name in NEOHOOKEAN:
     _scene, _args, _bound, _what = CASES[_name]
     CASES[f"neohookean {_name}"] = (_scene, ["-material", "neohookean"] + _args, "roundoff", f"{_what}, Neo-Hookean")
+# the 3D ball (issue 25, docs/3d.md): a fast drop, a large dt, a soft Neo-Hookean ball, the moving foundation
+# dropping faster than the ball (the linear ones with the exact active set: IPOPT is 34x slower on ball.msh)
+BALL_CASES = {
+    "ball dt 1": ("ball", ["-dt", "1", "-solver", "activeset"], "modified", "3D ball, large time step"),
+    "ball v0z -5": ("ball", ["-v0z", "-5", "-T", "60", "-solver", "activeset"], "modified", "3D ball, fast drop"),
+    "ball soft Neo-Hookean lambda = mu = 3": ("ball", ["-material", "neohookean", "-lambda", "3", "-mu", "3", "-T", "60"],
+                                             "roundoff", "3D soft Neo-Hookean ball"),
+    "ball_moving fast drop t1 = t0 + 0.5": ("ball_moving", ["-t1", "9.5", "-T", "60", "-solver", "activeset"], "modified",
+                                            "3D, foundation drops faster than the ball"),
+}
+CASES.update(BALL_CASES)
 # the subset in make check, with its shorter horizon
 FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast drop t1 = t0 + 0.5": "20",
         "f = 0, fixed foundation": "15", "f = 0, decreasing foundation": "15",
@@ -250,12 +261,15 @@ def main():
                    help="only the cases of the methods (METHOD_CASES), into summary_methods.md (summary.md is left as it is)")
     p.add_argument("--nh-only", action="store_true",
                    help="only the Neo-Hookean cases, into summary_neohookean.md (summary.md is left as it is)")
+    p.add_argument("--ball-only", action="store_true",
+                   help="only the 3D ball's cases (BALL_CASES), into summary_ball.md (summary.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    summary = "summary_neohookean.md" if a.nh_only else "summary_methods.md" if a.methods_only else "summary.md"
+    summary = "summary_neohookean.md" if a.nh_only else "summary_methods.md" if a.methods_only else \
+        "summary_ball.md" if a.ball_only else "summary.md"
     jobs.stop_on_interrupt("make stress", a.out, [summary])
     names = list(FAST) if a.fast else [n for n in CASES if is_neohookean(n)] if a.nh_only else \
-        list(METHOD_CASES) if a.methods_only else list(CASES)
+        list(METHOD_CASES) if a.methods_only else list(BALL_CASES) if a.ball_only else list(CASES)
     lines = ["| case | stresses | outcome | steps | energy bound | max one-step gain (relative) | max penetration | "
              "max active nodes | contact intervals | failures | seconds |",
              "| --- | --- | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: |"]
