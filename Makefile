@@ -80,6 +80,10 @@ meshes/%_refine8.msh: REFINE = 8
 # mesh, is refine 0.3 (534 vertices)
 meshes/hertz_coarse.msh: REFINE = 0.3
 meshes/hertz.msh meshes/hertz_coarse.msh: meshes/ball.geo
+# make bench's middle ball (docs/bench.md): refine 2.45, 6907 vertices, the size of issue 25's scipy reference
+meshes/ball_medium.msh: REFINE = 2.45
+meshes/ball_medium.msh: meshes/ball.geo | deps-run
+	$(build_mesh)
 # One line while gmsh works (and every 30 s on a long build), one line on a gmsh error (its first
 # "Error" line; the whole log stays in $@.log).
 define build_mesh
@@ -172,8 +176,8 @@ check: meshes | deps-test
 	$(PYTHON) -m pytest -q tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
-bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
-	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench
+bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh | deps-plot
+	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench $(BENCH_ARGS)
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
 accuracy: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot

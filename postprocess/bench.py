@@ -19,13 +19,22 @@ ratios asked for:
     material rows alone, SVK and Neo-Hookean alternated run by run);
   - every method of make methods (penalty, Nitsche, singular and lumped mass,
     Newmark, explicit Verlet) on Test 1: ms per step and wall time against
-    the paper's method.
+    the paper's method;
+  - the 3D ball (issue 25, docs/3d.md) on three meshes (ball.msh, ball_medium.msh, ball_refine4.msh):
+    vertices, dofs, set-up, ms per step and peak memory of the active set, of the same run with no
+    foundation, of IPOPT (on a ball that starts in contact), and of an independent scipy implementation
+    of the same scheme (postprocess/scipy_midpoint.py, SuperLU and cached Schur columns), with the
+    aims "the active-set ball within 1.5x the no-foundation run at the largest size" and "a step at
+    least 3x faster than scipy's", and how the cost grows with the vertices (--ball-only: these rows
+    alone, into bench_ball.md and .csv).
 Cases run one at a time, so they do not compete for the 2 cores. A case that
 takes less than 10 s is run --repeat times and its median kept (the spread is
 reported), so the ratios of short runs are not one noisy sample. Writes
-results/bench/bench.md and bench.csv (--nh-only: bench_neohookean.md and .csv).
+results/bench/bench.md and bench.csv (--nh-only: bench_neohookean.md and .csv;
+--ball-only: bench_ball.md and .csv).
 """
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -42,13 +51,21 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
 
 
-def run_case(out_base, name, scene, args, allow_stop=False):
-    """One run, timed. allow_stop: a run that the energy guard stops (exit 4, its one line; docs/errors.md)
-    is returned with that line as "stopped", not taken as a failure."""
-    out = os.path.join(out_base, name)
+def case_table(rows):
+    """The table of every case: wall time (and the range of its runs), CPU, peak memory, steps, ms per step."""
+    lines = ["| case | wall s | runs (wall range) | CPU s | peak MiB | steps | QP steps | ms/step |",
+             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
+    for r in rows:
+        spread = f"{r['runs']} ({r['wall_min']:.2f}-{r['wall_max']:.2f})" if r["runs"] > 1 else "1"
+        lines.append(f"| {r['case']} | {r['wall_s']:.2f} | {spread} | {r['cpu_s']:.2f} | {r['peak_MiB']:.0f} | {r['steps']} | "
+                     f"{r['qp_steps']} | {r['ms_per_step']:.2f} |")
+    return lines
+
+
+def timed_process(cmd, **kwargs):
+    """cmd run to its end: (exit status, its output, wall seconds, its resource usage)."""
     t0 = time.perf_counter()
-    p = jobs.start([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args,
-                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=dict(os.environ, FORCE="1"))
+    p = jobs.start(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **kwargs)
     try:
         log = p.stdout.read()
         # wait4: this case's own CPU time and peak memory, FreeFEM included (Linux counts reaped descendants)
@@ -56,9 +73,17 @@ def run_case(out_base, name, scene, args, allow_stop=False):
         p.returncode = os.waitstatus_to_exitcode(status)
     finally:
         jobs.finished(p)
-    wall = time.perf_counter() - t0
-    stopped = allow_stop and p.returncode == 4 and guard_stop(log) is not None
-    if p.returncode != 0 and not stopped:
+    return p.returncode, log, time.perf_counter() - t0, usage
+
+
+def run_case(out_base, name, scene, args, allow_stop=False):
+    """One run, timed. allow_stop: a run that the energy guard stops (exit 4, its one line; docs/errors.md)
+    is returned with that line as "stopped", not taken as a failure."""
+    out = os.path.join(out_base, name)
+    returncode, log, wall, usage = timed_process([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args,
+                                                 env=dict(os.environ, FORCE="1"))
+    stopped = allow_stop and returncode == 4 and guard_stop(log) is not None
+    if returncode != 0 and not stopped:
         sys.exit(f"bench case {name} failed:\n{log}")
     h = read_run(out)
     summary = read_summary(out) if not stopped else {}     # (a stopped run has no summary.txt)
@@ -104,13 +129,20 @@ def main():
     p.add_argument("--out", default=os.path.join(ROOT, "results", "bench"))
     p.add_argument("--T", default="120", help="horizon of the Test 1 / Test 2 cases")
     p.add_argument("--repeat", type=int, default=3, help="runs of a case shorter than 10 s (median kept)")
+    p.add_argument("--ball-only", action="store_true",
+                   help="only the 3D ball's cases (issue 25), into bench_ball.md and .csv (bench.md is left as it is)")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    stem = "bench_neohookean" if a.nh_only else "bench"
+    stem = "bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench"
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
+    if a.ball_only:
+        rows, text = ball_section(a.out, a.repeat)
+        print(text)
+        write_tables(a.out, "bench_ball", rows, text)
+        return
     cases = [
         ("test1 ipopt", "test1", ["-T", a.T]),
         ("test1 ipopt skip_free=0", "test1", ["-T", a.T, "-skip_free", "0"]),
@@ -165,12 +197,7 @@ def main():
         rows.append(timed_case(a.out, name.replace(" ", "_").replace("=", ""), scene, args, a.repeat, bool(stop)))
         rows[-1]["case"] = name
     by = {r["case"]: r for r in rows}
-    lines = ["| case | wall s | runs (wall range) | CPU s | peak MiB | steps | QP steps | ms/step |",
-             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
-        spread = f"{r['runs']} ({r['wall_min']:.2f}-{r['wall_max']:.2f})" if r["runs"] > 1 else "1"
-        lines.append(f"| {r['case']} | {r['wall_s']:.2f} | {spread} | {r['cpu_s']:.2f} | {r['peak_MiB']:.0f} | {r['steps']} | "
-                     f"{r['qp_steps']} | {r['ms_per_step']:.2f} |")
+    lines = case_table(rows)
 
     def u2_gap(x, y):
         return np.abs(by[x]["history"]["u2_low"] - by[y]["history"]["u2_low"]).max()
@@ -260,9 +287,135 @@ def main():
                          f"{r['wall_s'] / paper['wall_s']:.1f} |")
     lines += [f"\n{METHODS[m][0]}: `{by[f'methods {m}']['stopped']}`" for m in METHODS if by[f"methods {m}"]["stopped"]]
     lines += [""] + nh_lines(by, svk_pairs, a.T, full=True)
+    ball_rows, ball_text = ball_section(a.out, a.repeat)
+    rows += ball_rows
+    lines += ["", "The 3D ball (docs/3d.md):", "", ball_text]
     text = "\n".join(lines)
     print(text)
     write_tables(a.out, "bench", rows, text)
+
+
+# ---- the 3D ball (issue 25): three meshes of the scene `ball` (Test 1 in 3D), T = BALL_T
+BALL_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh"), ("ball_refine4", "meshes/ball_refine4.msh")]
+BALL_T = "20"      # the fall (first contact at t = 8.95), the impact and most of the rebound: 400 steps
+# IPOPT against the active set on the ball starting in contact at Test 1's impact speed sqrt(2 g 4) = 0.894,
+# so that every step is a QP: 20 steps, 5 on the middle mesh and 1 on the largest (IPOPT takes minutes per step there)
+IMPACT = ["-u0z", "0", "-v0z", "-0.894"]
+IMPACT_T = {"ball": "1", "ball_medium": "0.25", "ball_refine4": "0.05"}
+BALL_AIM_FOUNDATION = 1.5    # the active-set ball within 1.5x the no-foundation run at the largest size
+BALL_AIM_SCIPY = 3           # a step at least 3x faster than the scipy implementation of the same scheme
+SCIPY = os.path.join(ROOT, "postprocess", "scipy_midpoint.py")
+# the scipy run's horizon: BALL_T, but T = 10 (the fall and the impact's first 22 steps) on the largest mesh, where
+# SuperLU takes about 3 min to factorise A and 1.2 s a step; the active set then also runs to that T beside it
+SCIPY_T = {"ball": BALL_T, "ball_medium": BALL_T, "ball_refine4": "10"}
+
+
+def scipy_case(out_base, name, mesh, horizon):
+    """The scipy implementation (scipy_midpoint.py) of the same run (ball, -solver activeset) to T = horizon,
+    in its own process: its set-up and ms per step as it times them, its wall time and peak memory."""
+    out = os.path.join(out_base, name)
+    os.makedirs(out, exist_ok=True)
+    returncode, log, wall, usage = timed_process([sys.executable, SCIPY, "--mesh", os.path.join(ROOT, mesh), "--T", horizon,
+                                                  "--out", os.path.join(out, "history.csv"),
+                                                  "--json", os.path.join(out, "summary.json")])
+    if returncode != 0:
+        sys.exit(f"bench case {name} failed:\n{log}")
+    with open(os.path.join(out, "summary.json")) as fh:
+        res = json.load(fh)
+    return dict(res, case=name, wall_s=wall, cpu_s=usage.ru_utime + usage.ru_stime,
+                peak_MiB=usage.ru_maxrss / 1024, history=read_run(out))
+
+
+def ball_section(out_base, repeat):
+    """The 3D rows: for each mesh of BALL_MESHES, one step (the set-up), the active set and the same run with
+    no foundation to BALL_T, IPOPT and the active set on the impact, and the scipy implementation. Returns
+    (rows for bench.csv, the text of the tables and aims)."""
+    rows, by, scipy = [], {}, {}
+    for mesh, path in BALL_MESHES:
+        cases = [(f"ball {mesh} set-up", ["-T", "0.05", "-solver", "activeset"]),
+                 (f"ball {mesh} activeset", ["-T", BALL_T, "-solver", "activeset"]),
+                 (f"ball {mesh} no foundation", ["-T", BALL_T, "-foundation", "none"]),
+                 (f"ball {mesh} impact activeset", IMPACT + ["-T", IMPACT_T[mesh], "-solver", "activeset"]),
+                 (f"ball {mesh} impact ipopt", IMPACT + ["-T", IMPACT_T[mesh], "-solver", "ipopt"])]
+        if SCIPY_T[mesh] != BALL_T:
+            cases.append((f"ball {mesh} activeset T={SCIPY_T[mesh]}", ["-T", SCIPY_T[mesh], "-solver", "activeset"]))
+        for name, args in cases:
+            print(f"bench: {name} ...", flush=True)
+            r = timed_case(out_base, name.replace(" ", "_").replace("-", "_").replace("=", ""), "ball", ["-mesh", path] + args,
+                           repeat)
+            r["case"] = name
+            rows.append(r)
+            by[name] = r
+        print(f"bench: ball {mesh} scipy ...", flush=True)
+        scipy[mesh] = scipy_case(out_base, f"ball_{mesh}_scipy", path, SCIPY_T[mesh])
+    lines = case_table(rows + [dict(q, case=f"ball {mesh} scipy", runs=1, ms_per_step=1000 * q["wall_s"] / q["steps"])
+                               for mesh, q in scipy.items()])
+    # the time loop's cost per step: the run to BALL_T less the one-step run (set-up and the first step)
+    def loop_ms(name, mesh):
+        run, one = by[name], by[f"ball {mesh} set-up"]
+        return 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+    lines += ["", f"Test 1 in 3D (scene ball) to T = {BALL_T} ({by['ball ball activeset']['steps']} "
+              "steps): set-up is the wall time of a one-step run, ms/step the rest of the run's wall time per further step.", "",
+              "| mesh | vertices | dofs | Gamma_C nodes | set-up s | peak MiB | active set: ms/step | QP steps | Schur solves | "
+              "no foundation: ms/step | active set / no foundation: run (per step) |",
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    summary = {}
+    for mesh, _ in BALL_MESHES:
+        s = summary[mesh] = read_summary(os.path.join(out_base, f"ball_{mesh}_activeset"))
+        act, none = by[f"ball {mesh} activeset"], by[f"ball {mesh} no foundation"]
+        q = scipy[mesh]
+        lines.append(f"| {mesh} | {s['vertices']} | {3 * int(s['vertices'])} | {q['contact_nodes']} | "
+                     f"{by[f'ball {mesh} set-up']['wall_s']:.2f} | {act['peak_MiB']:.0f} | {loop_ms(f'ball {mesh} activeset', mesh):.2f} | "
+                     f"{act['qp_steps']} | {s['schur_solves']} | {loop_ms(f'ball {mesh} no foundation', mesh):.2f} | "
+                     f"{act['wall_s'] / none['wall_s']:.2f} ({loop_ms(f'ball {mesh} activeset', mesh) / loop_ms(f'ball {mesh} no foundation', mesh):.2f}) |")
+    lines += ["", "IPOPT against the active set, the ball starting in contact at Test 1's impact speed (every step a QP; "
+              "ms per step after the active-set one-step run's set-up):", "",
+              "| mesh | steps | IPOPT: wall s | IPOPT: ms/step | active set: wall s | active set: ms/step | IPOPT / active set per step | "
+              "max abs u3_low difference |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for mesh, _ in BALL_MESHES:
+        ip, act = by[f"ball {mesh} impact ipopt"], by[f"ball {mesh} impact activeset"]
+        setup = by[f"ball {mesh} set-up"]["wall_s"]
+        ip_ms, act_ms = (1000 * max(r["wall_s"] - setup, 0) / r["steps"] for r in (ip, act))
+        gap = np.abs(ip["history"]["u3_low"] - act["history"]["u3_low"]).max()
+        lines.append(f"| {mesh} | {ip['steps']} | {ip['wall_s']:.2f} | {ip_ms:.1f} | {act['wall_s']:.2f} | {act_ms:.2f} | "
+                     f"{(f'{ip_ms / act_ms:.0f}' if act_ms > 0 else '-')} | {gap:.2g} |")
+    def beside_scipy(mesh):      # the active-set run to the scipy run's horizon
+        return f"ball {mesh} activeset" + ("" if SCIPY_T[mesh] == BALL_T else f" T={SCIPY_T[mesh]}")
+    lines += ["", "The same scheme in scipy (postprocess/scipy_midpoint.py: SuperLU, Schur columns cached; set-up and "
+              "ms/step by its own timers, after reading the mesh), beside the active-set run to the same T:", "",
+              "| mesh | T | scipy set-up s | scipy ms/step | scipy peak MiB | FreeFEM set-up s | FreeFEM ms/step | "
+              "scipy / FreeFEM per step | max abs u3_low difference |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for mesh, _ in BALL_MESHES:
+        q, act = scipy[mesh], by[beside_scipy(mesh)]
+        gap = np.abs(q["history"]["u3_low"] - act["history"]["u3_low"]).max()
+        ff_ms = loop_ms(beside_scipy(mesh), mesh)
+        lines.append(f"| {mesh} | {SCIPY_T[mesh]} | {q['setup_seconds']:.2f} | {q['ms_per_step']:.2f} | {q['peak_MiB']:.0f} | "
+                     f"{by[f'ball {mesh} set-up']['wall_s']:.2f} | {ff_ms:.2f} | {q['ms_per_step'] / ff_ms:.1f} | {gap:.2g} |")
+    big = BALL_MESHES[-1][0]
+    r_run = by[f"ball {big} activeset"]["wall_s"] / by[f"ball {big} no foundation"]["wall_s"]
+    r_loop = loop_ms(f"ball {big} activeset", big) / loop_ms(f"ball {big} no foundation", big)
+    r_scipy = {mesh: scipy[mesh]["ms_per_step"] / loop_ms(beside_scipy(mesh), mesh) for mesh, _ in BALL_MESHES}
+    lines += ["", f"- aim of the active-set ball within {BALL_AIM_FOUNDATION:g}x the no-foundation run at the largest size ({big}): "
+              f"{'met' if r_run <= BALL_AIM_FOUNDATION else 'NOT met'} on the whole run ({r_run:.2f}x); the time loop alone "
+              f"{r_loop:.2f}x ({'within' if r_loop <= BALL_AIM_FOUNDATION else 'beyond'} the aim)",
+              f"- aim of a step at least {BALL_AIM_SCIPY:g}x faster than the scipy implementation: "
+              + "; ".join(f"{mesh} {r:.1f}x ({'met' if r >= BALL_AIM_SCIPY else 'NOT met'})" for mesh, r in r_scipy.items())]
+    # growth: the exponent p of cost ~ vertices^p between consecutive meshes
+    nv = {mesh: int(summary[mesh]["vertices"]) for mesh, _ in BALL_MESHES}
+    for label, cost in (("set-up", lambda m: by[f"ball {m} set-up"]["wall_s"]),
+                        ("active set ms/step", lambda m: loop_ms(f"ball {m} activeset", m)),
+                        ("no foundation ms/step", lambda m: loop_ms(f"ball {m} no foundation", m)),
+                        ("peak memory", lambda m: by[f"ball {m} activeset"]["peak_MiB"]),
+                        ("scipy ms/step" + "".join(f" (T = {t} on {m})" for m, t in SCIPY_T.items() if t != BALL_T),
+                         lambda m: scipy[m]["ms_per_step"])):
+        pairs = list(zip(BALL_MESHES, BALL_MESHES[1:]))
+        lines.append(f"- growth of the {label} with the vertices: " + ", ".join(
+            f"{a} to {b}: vertices^{np.log(cost(b) / cost(a)) / np.log(nv[b] / nv[a]):.2f}" for (a, _), (b, _) in pairs))
+    csv_rows = rows + [dict(case=f"ball {mesh} scipy", wall_s=q["wall_s"], runs=1, wall_min=q["wall_s"], wall_max=q["wall_s"],
+                            cpu_s=q["cpu_s"], peak_MiB=q["peak_MiB"], steps=q["steps"], qp_steps=q["qp_steps"],
+                            ms_per_step=q["ms_per_step"], newton_iterations=0, newton_retries=0, gmres_iterations=0)
+                       for mesh, q in scipy.items()]
+    return csv_rows, "\n".join(lines)
 
 
 def write_tables(out, stem, rows, text):
