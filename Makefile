@@ -62,11 +62,12 @@ deps-plot: deps-run
 	$(PYTHON) -c 'import meshio' 2>/dev/null || missing="$$missing python3-meshio";)
 deps-test: deps-plot
 	$(call install_missing, \
-	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest";)
+	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest"; \
+	command -v mpirun >/dev/null || missing="$$missing openmpi-bin";)
 deps: deps-test
 
 # ---- meshes: meshes/NAME.msh from meshes/NAME.geo (gmsh, MSH 2.2, -setnumber refine);
-# NAME_coarse, NAME_fine, NAME_refine4, NAME_refine8: refine 0.5, 2, 4, 8 (the paper's disk,
+# NAME_coarse, NAME_fine, NAME_refine4, NAME_refine6, NAME_refine8: refine 0.5, 2, 4, 6, 8 (the paper's disk,
 # refine 1, has 989 vertices; refine 8 about 57,000). A .geo whose first line is `// dimension 3`,
 # or that has a Physical Volume, is meshed with gmsh -3 (tetrahedra: a 3D body, docs/3d.md),
 # every other one with gmsh -2.
@@ -75,6 +76,7 @@ REFINE = 1
 meshes/%_coarse.msh: REFINE = 0.5
 meshes/%_fine.msh: REFINE = 2
 meshes/%_refine4.msh: REFINE = 4
+meshes/%_refine6.msh: REFINE = 6
 meshes/%_refine8.msh: REFINE = 8
 # the Hertz ball (hertz.geo includes ball.geo): its coarse variant, for tests and make hertz's second
 # mesh, is refine 0.3 (534 vertices)
@@ -107,10 +109,12 @@ meshes/%_fine.msh: meshes/%.geo | deps-run
 	$(build_mesh)
 meshes/%_refine4.msh: meshes/%.geo | deps-run
 	$(build_mesh)
+meshes/%_refine6.msh: meshes/%.geo | deps-run
+	$(build_mesh)
 meshes/%_refine8.msh: meshes/%.geo | deps-run
 	$(build_mesh)
 
-# ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..."
+# ---- one simulation: make run SCENE=<name> OUT=<dir> ARGS="-key value ..." [NP=N: on N processes, docs/parallel.md]
 # Its prerequisite is the mesh the run uses (-mesh in ARGS, else the scene's meshFile, else the disk) when it is a
 # meshes/NAME.msh that a rule above makes (its .geo exists); a broken .geo elsewhere in meshes/ does not matter, and
 # any other -mesh is run.sh's to check. A prerequisite, not a make called from the recipe: a mesh that gmsh cannot
@@ -124,12 +128,12 @@ RUN_MESH := $(shell mesh=meshes/disk.msh; \
   set -- $(ARGS); while [ $$# -gt 1 ]; do [ "$$1" = -mesh ] && mesh=$$2; shift; done; \
   case "$$mesh" in (./*) mesh=$${mesh:2} ;; esac; \
   case "$$mesh" in (*[!A-Za-z0-9_./-]*) ;; (meshes/*.msh) echo "$$mesh" ;; esac)
-# its .geo: meshes/NAME.geo for meshes/NAME.msh and for meshes/NAME_{coarse,fine,refine4,refine8}.msh
+# its .geo: meshes/NAME.geo for meshes/NAME.msh and for meshes/NAME_{coarse,fine,medium,refine4,refine6,refine8}.msh
 RUN_MESH_GEO := $(wildcard $(patsubst %.msh,%.geo,$(RUN_MESH)) \
-  $(foreach s,_coarse _fine _refine4 _refine8,$(patsubst %$(s).msh,%.geo,$(filter %$(s).msh,$(RUN_MESH)))))
+  $(foreach s,_coarse _fine _medium _refine4 _refine6 _refine8,$(patsubst %$(s).msh,%.geo,$(filter %$(s).msh,$(RUN_MESH)))))
 endif
 run: $(if $(RUN_MESH_GEO),$(RUN_MESH)) | deps-run
-	@$(RUN) "$(SCENE)" "$(OUT)" $(ARGS)
+	@$(RUN) "$(SCENE)" "$(OUT)" $(if $(NP),-np "$(NP)") $(ARGS)
 
 # ---- an animation of a run: make animation OUT=<dir> writes <dir>/animation.gif, and animation.mp4 when
 # ffmpeg is on PATH (postprocess/animate.py; the run needs snapshots, e.g. ARGS="-snapshots every:0.25").
@@ -176,35 +180,36 @@ check: meshes | deps-test
 	$(PYTHON) -m pytest -q tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
-bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh | deps-plot
+bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh \
+       meshes/ball_refine6.msh | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench $(BENCH_ARGS)
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
 accuracy: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
-	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy
+	$(PYTHON) postprocess/accuracy.py --out $(RESULTS)/accuracy $(if $(NP),--np $(NP))
 
 # ---- hard cases with their criteria (see postprocess/stress.py); results/stress/summary.md
 stress: meshes meshes/disk_refine4.msh | deps-plot
-	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress
+	$(PYTHON) postprocess/stress.py --out $(RESULTS)/stress $(if $(NP),--np $(NP))
 
 # ---- linear, St Venant-Kirchhoff and Neo-Hookean bodies side by side (postprocess/svk_compare.py); results/svk/summary.md
 svk: meshes | deps-plot
-	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk --jobs $(JOBS)
+	$(PYTHON) postprocess/svk_compare.py --out $(RESULTS)/svk --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- the methods of the paper's references beside its own: penalty, Nitsche, singular and lumped mass,
 # Newmark, explicit Verlet (see postprocess/methods.py); results/methods/summary.md
 methods: meshes | deps-plot
-	$(PYTHON) postprocess/methods.py --out $(RESULTS)/methods --jobs $(JOBS)
+	$(PYTHON) postprocess/methods.py --out $(RESULTS)/methods --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- the Turek-Hron CSM3 benchmark against its published values, with its convergence in
 # mesh, dt and order (see postprocess/csm3.py); results/csm3/summary.md
 csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
-	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3 --jobs $(JOBS)
+	$(PYTHON) postprocess/csm3.py --out $(RESULTS)/csm3 --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- the 3D ball's impact on a rigid flat against Hertz's theory, at three speeds, two meshes and two dt
 # (issue 25; see postprocess/hertz.py, docs/hertz.md); results/hertz/summary.md
 hertz: meshes/hertz.msh meshes/hertz_coarse.msh | deps-plot
-	$(PYTHON) postprocess/hertz.py --out $(RESULTS)/hertz --jobs $(JOBS)
+	$(PYTHON) postprocess/hertz.py --out $(RESULTS)/hertz --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- every scene with the first line of its comment
 scenes:

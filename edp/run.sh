@@ -3,6 +3,9 @@
 #   SCENE is a name in edp/scenes/ (make scenes) or the path of a scene file (.idp).
 # run.sh SCENE OUT -restart DIR [-key value ...] continues the run in DIR from its
 #   last checkpoint, with DIR's parameters; only -T and output options may change.
+# run.sh SCENE OUT -np N [-key value ...] runs the same driver on N processes of FreeFem++-mpi
+#   (mpirun), its solves with A on ffddm (docs/parallel.md); the results are those of a serial
+#   run to the Krylov tolerance, and a run may be restarted with another N.
 #
 # Nothing of an earlier run in OUT changes until the new run is under way:
 #   - one run per OUT at a time: a lock on OUT/.lock (flock), released when the
@@ -38,17 +41,33 @@ esac
 
 args=()
 restart_dir=""
+np=""
 while [ $# -gt 0 ]; do
   if [ "$1" = "-restart" ]; then
     [ $# -ge 2 ] && [ -n "$2" ] || err "-restart needs the directory of the run to continue"
     [ -z "$restart_dir" ] || err "-restart is given twice"
     restart_dir=$2
     shift 2
+  elif [ "$1" = "-np" ]; then
+    [ $# -ge 2 ] || err "-np needs the number of processes"
+    [ -z "$np" ] || err "-np is given twice"
+    [[ "$2" =~ ^[0-9]+$ ]] && [ "${#2}" -le 4 ] && [ "$2" -ge 1 ] && [ "$2" -le 1024 ] ||
+      err "-np must be a whole number of processes from 1 to 1024; got '$2'"
+    np=$((10#$2))
+    shift 2
   else
     args+=("$1")
     shift
   fi
 done
+# -np N: FreeFEM's MPI build, Open MPI's mpirun and FreeFEM's ffddm (Debian's freefem++ and libfreefem++-dev)
+if [ -n "$np" ]; then
+  for tool in mpirun FreeFem++-mpi; do
+    command -v $tool >/dev/null || err "-np needs $tool (FreeFEM's MPI build with Open MPI; Debian: apt-get install freefem++ openmpi-bin)"
+  done
+  [ -r /usr/include/freefem++/idp/ffddm.idp ] ||
+    err "-np needs FreeFEM's ffddm (/usr/include/freefem++/idp/ffddm.idp; Debian: apt-get install libfreefem++-dev)"
+fi
 if [ -n "$restart_dir" ]; then
   [ -d "$restart_dir" ] || err "-restart $restart_dir: no such directory"
   for f in checkpoint.txt parameters.txt history.csv scene.idp; do
@@ -78,7 +97,7 @@ errfile=$(mktemp 2>/dev/null) || err "cannot create a temporary file (is /tmp fu
 cleanup() {
   local committed=0
   [ -e "$stage/.committed" ] && committed=1
-  rm -f "$errfile"
+  rm -f "$errfile" "$errfile.stop"
   rm -rf "$stage"
   if [ $committed = 1 ] || [ "$created" = 0 ]; then
     : > "$out/.lock"
@@ -171,8 +190,10 @@ if [ "$dimension" = 3 ] && [ "$material" != linear ]; then
     err "-material $material is not supported on a 3D body yet (the mesh $mesh_file has tetrahedra): use -material linear or neohookean"
 fi
 [ -f "$here/lib/material_$material.idp" ] || err "edp/lib/materials.txt lists -material $material, but edp/lib/material_$material.idp is missing" 1
-{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/dimension%s.idp"\n' \
-    "$order" "$fe" "$material" "$dimension" > "$stage/compiled.idp" &&
+processes=serial
+[ -n "$np" ] && processes=mpi
+{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension, -np)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/processes_%s.idp"\ninclude "lib/dimension%s.idp"\n' \
+    "$order" "$fe" "$material" "$processes" "$dimension" > "$stage/compiled.idp" &&
   printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
     "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
 # IPOPT reads ipopt.opt from the working directory; its options override the script's.
@@ -187,6 +208,19 @@ OPT
 export FF_LOADPATH=/usr/lib/freefem++
 # (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp)
 export FF_INCLUDEPATH="$stage;$here;/usr/include/freefem++/idp"
+if [ -n "$np" ]; then
+  # -np N: FreeFem++-mpi's plugins; ffddm's files as installed, but ffddm.idp without its line `load "MUMPS_mpi"`:
+  # Debian does not ship MUMPS_mpi.so, and with it `include "ffddm.idp"` stops every run ("Load error: MUMPS_mpi",
+  # "cannot open shared object file"); the subdomains' solves here are CHOLMOD's or UMFPACK's (docs/parallel.md)
+  export FF_LOADPATH=/usr/lib/freefem++/mpi
+  mkdir "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+  for f in /usr/include/freefem++/idp/ffddm*.idp; do
+    sed '/^[[:space:]]*load[[:space:]]*"MUMPS_mpi"/d' "$f" > "$stage/.ffddm/${f##*/}" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+  done
+  export FF_INCLUDEPATH="$stage;$stage/.ffddm;$here;/usr/include/freefem++/idp"
+  # Open MPI refuses to start as root without these (CI runs as root)
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
 # FreeFEM writes everything to stdout. The filter keeps the driver's own lines
 # ("error:" and "warning:" ones go to stderr) and drops FreeFEM's traces, keeping
@@ -199,10 +233,53 @@ tty=0
 # CONTACT_DEBUG=1 also shows FreeFEM's raw output on stderr (for developers).
 raw=/dev/null
 [ -n "${CONTACT_DEBUG:-}" ] && raw=/dev/stderr
+# -np N: mpirun tags every line with its process ("[1,r]<stdout>:"); the filter keeps process 0's lines (every
+# process runs the same checks, so its errors are everyone's) and, from any process, its status line
+# "exit-status N" (options.idp) and FreeFEM's own error traces. A process that stops alone leaves the others
+# waiting in MPI for ever (FreeFEM's exit waits in MPI_Finalize): once the filter has seen one of those lines
+# (it writes $errfile.stop), the others get 5 s to end too, then mpirun is stopped, and the status is the one
+# the process gave (docs/parallel.md).
+run_freefem() {
+  if [ -z "$np" ]; then
+    (cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}")
+    return
+  fi
+  (cd "$stage" && exec mpirun --oversubscribe --tag-output -np "$np" FreeFem++-mpi -nw -ns -v 0 "$here/contact.edp" "${args[@]}") &
+  local job=$! since=""
+  while kill -0 $job 2>/dev/null; do
+    if [ -e "$errfile.stop" ]; then
+      [ -n "$since" ] || since=$SECONDS
+      if [ $((SECONDS - since)) -ge 5 ]; then
+        kill -TERM $job 2>/dev/null
+        for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 $job 2>/dev/null || break; sleep 0.2; done
+        pkill -KILL -P $job 2>/dev/null
+        kill -KILL $job 2>/dev/null
+        break
+      fi
+    fi
+    sleep 0.2
+  done
+  wait $job
+}
+# (mawk, Debian's awk, reads a pipe in blocks unless told to read it line by line: the watchdog and the
+# progress line need each line as it comes)
+awk_lines=()
+awk -W version 2>/dev/null | grep -q mawk && awk_lines=(-W interactive)
 # (No exec: the subshell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
-(cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}") 2>&1 | tee "$raw" | awk -v tty=$tty \
+run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
     -v scene="$scene_file" -v errfile="$errfile" '
   function newline() { if (pending) { printf "\n"; pending = 0 } }
+  function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
+  tagged { rank = -1
+           if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
+                                                                  rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
+  tagged && /^exit-status [0-9]+$/ { stop($2); next }
+  tagged && rank != 0 {
+    if (/Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code/ && $0 !~ /^(error|warning): /) {
+      if (detail == "") { detail = "process " rank ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
+      stop("crash")
+    }
+    next }
   /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
   /^(note: |mesh |reference point: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
   /^progress / { sub(/^progress /, "")
@@ -226,7 +303,9 @@ raw=/dev/null
     if (reason == "") { reason = $0; gsub(/^ +| +$/, "", reason) } next }
   /^ Error opening file / { if (opened == "") { opened = $0; sub(/^ Error opening file /, "", opened) } next }
   /Exec error|Assertion fail|Error|error|Segmentation fault|Aborted|Killed|Out of bound|bug/ {
-    if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) } next }
+    if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
+    if (tagged && /Exec error|Assertion fail|Segmentation fault|Aborted|Out of bound|err code/) stop("crash")
+    next }
   { next }
   END { newline()
         if (compile) exit 3
@@ -237,6 +316,15 @@ raw=/dev/null
         if (detail != "") print detail > errfile }'
 status=("${PIPESTATUS[@]}")
 rc=${status[0]} filter=${status[2]}
+# -np N: the status a process gave when it stopped (the others may have been stopped for it)
+if [ -s "$errfile.stop" ]; then
+  given=$(head -n 1 "$errfile.stop")
+  case "$given" in
+    3 | 4 | 5 | 7) rc=$given ;;
+    crash) [ "$rc" = 0 ] && rc=1 ;;
+  esac
+fi
+rm -f "$errfile.stop"
 case "$rc" in
   0 | 3 | 4 | 5 | 7) exit_status=$rc ;;
   *) if [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
