@@ -572,7 +572,9 @@ def main():
     p.add_argument("--methods-only", action="store_true", help="run only the per-method part (methods.md)")
     p.add_argument("--nh-only", action="store_true", help="run only the Neo-Hookean part (nh.md), with the linear "
                    "and SVK runs it compares with")
+    jobs.add_processes_option(p)
     a = p.parse_args()
+    jobs.use_processes(a.np)
     os.makedirs(a.out, exist_ok=True)
     # what this invocation rewrites (--quick: only the main tables and figure)
     if a.p2_only or a.methods_only:

@@ -26,12 +26,16 @@ ratios asked for:
     of the same scheme (postprocess/scipy_midpoint.py, SuperLU and cached Schur columns), with the
     aims "the active-set ball within 1.5x the no-foundation run at the largest size" and "a step at
     least 3x faster than scipy's", and how the cost grows with the vertices (--ball-only: these rows
-    alone, into bench_ball.md and .csv).
+    alone, into bench_ball.md and .csv);
+  - -np N (issue 26, docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
+    87,684 vertices) on 1, 2 and 4 processes (4 oversubscribe the 2 cores) beside the serial direct solver:
+    set-up, ms per step, solves and Krylov iterations per step, peak memory per process, the difference from
+    the serial history, and parallel.png (--parallel-only: these rows alone, into bench_parallel.md and .csv).
 Cases run one at a time, so they do not compete for the 2 cores. A case that
 takes less than 10 s is run --repeat times and its median kept (the spread is
 reported), so the ratios of short runs are not one noisy sample. Writes
 results/bench/bench.md and bench.csv (--nh-only: bench_neohookean.md and .csv;
---ball-only: bench_ball.md and .csv).
+--ball-only: bench_ball.md and .csv; --parallel-only: bench_parallel.md and .csv).
 """
 import argparse
 import json
@@ -80,8 +84,13 @@ def run_case(out_base, name, scene, args, allow_stop=False):
     """One run, timed. allow_stop: a run that the energy guard stops (exit 4, its one line; docs/errors.md)
     is returned with that line as "stopped", not taken as a failure."""
     out = os.path.join(out_base, name)
-    returncode, log, wall, usage = timed_process([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args,
-                                                 env=dict(os.environ, FORCE="1"))
+    timed = {}
+
+    def launch(cmd):         # (with --np N: a run that -np refuses again on one process, jobs.run_processes)
+        timed["returncode"], timed["log"], timed["wall"], timed["usage"] = timed_process(cmd, env=dict(os.environ, FORCE="1"))
+        return subprocess.CompletedProcess(cmd, timed["returncode"], timed["log"], timed["log"])
+    jobs.run_processes([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args, launch)
+    returncode, log, wall, usage = timed["returncode"], timed["log"], timed["wall"], timed["usage"]
     stopped = allow_stop and returncode == 4 and guard_stop(log) is not None
     if returncode != 0 and not stopped:
         sys.exit(f"bench case {name} failed:\n{log}")
@@ -131,17 +140,19 @@ def main():
     p.add_argument("--repeat", type=int, default=3, help="runs of a case shorter than 10 s (median kept)")
     p.add_argument("--ball-only", action="store_true",
                    help="only the 3D ball's cases (issue 25), into bench_ball.md and .csv (bench.md is left as it is)")
+    p.add_argument("--parallel-only", action="store_true",
+                   help="only the -np N cases (issue 26), into bench_parallel.md and .csv and parallel.png")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    stem = "bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench"
+    stem = "bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else "bench"
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
-    if a.ball_only:
-        rows, text = ball_section(a.out, a.repeat)
+    if a.ball_only or a.parallel_only:
+        rows, text = (ball_section if a.ball_only else parallel_section)(a.out, a.repeat)
         print(text)
-        write_tables(a.out, "bench_ball", rows, text)
+        write_tables(a.out, stem, rows, text)
         return
     cases = [
         ("test1 ipopt", "test1", ["-T", a.T]),
@@ -290,6 +301,9 @@ def main():
     ball_rows, ball_text = ball_section(a.out, a.repeat)
     rows += ball_rows
     lines += ["", "The 3D ball (docs/3d.md):", "", ball_text]
+    parallel_rows, parallel_text = parallel_section(a.out, a.repeat)
+    rows += parallel_rows
+    lines += ["", "-np N (docs/parallel.md):", "", parallel_text]
     text = "\n".join(lines)
     print(text)
     write_tables(a.out, "bench", rows, text)
@@ -416,6 +430,122 @@ def ball_section(out_base, repeat):
                             ms_per_step=q["ms_per_step"], newton_iterations=0, newton_retries=0, gmres_iterations=0)
                        for mesh, q in scipy.items()]
     return csv_rows, "\n".join(lines)
+
+
+# ---- -np N (issue 26): the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
+# PARALLEL_T, on 1, 2 and 4 processes beside the serial direct solver
+PARALLEL_MESHES = BALL_MESHES + [("ball_refine6", "meshes/ball_refine6.msh")]
+PARALLEL_NP = {"ball": [1, 2, 4], "ball_medium": [1, 2, 4], "ball_refine4": [1, 2, 4], "ball_refine6": [2]}
+PARALLEL_T = "0.5"
+
+
+def parallel_section(out_base, repeat):
+    """The -np rows: for each mesh of PARALLEL_MESHES, serially and on each N of PARALLEL_NP, a one-step run (the
+    set-up) and a run to PARALLEL_T. Returns (rows for bench.csv, the text); draws parallel.png into out_base."""
+    rows, by, runs = [], {}, {}
+    for mesh, path in PARALLEL_MESHES:
+        for n in [0] + PARALLEL_NP[mesh]:
+            who = f"np {n}" if n else "serial"
+            extra = ["-np", str(n)] if n else []
+            for horizon in ("0.05", PARALLEL_T):
+                name = f"parallel {mesh} {who} T={horizon}"
+                print(f"bench: {name} ...", flush=True)
+                r = timed_case(out_base, name.replace(" ", "_").replace("=", ""), "ball",
+                               ["-mesh", path, "-solver", "activeset", "-T", horizon] + IMPACT + extra, repeat)
+                r["case"] = name
+                rows.append(r)
+                by[name] = r
+            runs[(mesh, n)] = os.path.join(out_base, f"parallel_{mesh}_{who.replace(' ', '_')}_T{PARALLEL_T}")
+    lines = case_table(rows)
+    lines += ["", f"The ball starting in contact at Test 1's impact speed, to T = {PARALLEL_T} (every step a QP): set-up is the "
+              "wall time of a one-step run, ms/step the rest per further step; solves are those with A (the predictor, the "
+              "Schur columns of the nodes that enter the contact, the correction); memory is the largest process's peak.", "",
+              "| mesh | vertices | dofs | processes | set-up s | ms/step | solves/step | Krylov it/solve | peak MiB/process | "
+              "ms/step / serial | max abs u3_low difference from serial |",
+              "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    table = {}
+    for mesh, _ in PARALLEL_MESHES:
+        serial = None
+        for n in [0] + PARALLEL_NP[mesh]:
+            who = f"np {n}" if n else "serial"
+            one, run = by[f"parallel {mesh} {who} T=0.05"], by[f"parallel {mesh} {who} T={PARALLEL_T}"]
+            summary = read_summary(runs[(mesh, n)])
+            ms = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+            solves = int(summary["schur_solves"]) + run["steps"] + run["qp_steps"]
+            krylov = int(summary["krylov_iterations"]) / max(1, int(summary["krylov_solves"]))
+            serial = serial or (run, ms)
+            gap = np.abs(run["history"]["u3_low"] - serial[0]["history"]["u3_low"]).max()
+            table[(mesh, n)] = dict(vertices=int(summary["vertices"]), setup=one["wall_s"], ms=ms, memory=run["peak_MiB"])
+            lines.append(f"| {mesh} | {summary['vertices']} | {3 * int(summary['vertices'])} | {n if n else '1 (serial, CHOLMOD)'} | "
+                         f"{one['wall_s']:.2f} | {ms:.1f} | {solves / run['steps']:.1f} | {krylov if n else 0:.1f} | "
+                         f"{run['peak_MiB']:.0f} | {ms / serial[1]:.2f} | {gap:.2g} |")
+    lines.append("")
+    for n in (1, 2, 4):
+        meshes = [m for m, _ in PARALLEL_MESHES if n in PARALLEL_NP[m]]
+        faster = [m for m in meshes if table[(m, n)]["ms"] < table[(m, 0)]["ms"]]
+        lines.append(f"- {n} process{'es' if n > 1 else ''}: faster than the serial direct solver per step on "
+                     + (", ".join(faster) if faster else "none of " + ", ".join(meshes))
+                     + "; memory per process " + ", ".join(f"{m} {table[(m, n)]['memory'] / table[(m, 0)]['memory']:.2f}x"
+                                                           for m in meshes) + " the serial run's")
+    plot_parallel(table, os.path.join(out_base, "parallel.png"))
+    return rows, "\n".join(lines + [""] + strategy_lines())
+
+
+STRATEGY_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh")]
+
+
+def strategy_lines():
+    """The contact QP's two strategies under -np (docs/parallel.md), counted on scipy_midpoint's scheme (the same
+    active set as the driver's) for the scene ball to T = 20: the Schur columns gathered, or S never formed (CG
+    on S_aa, one solve with A a product). Every solve is a distributed Krylov solve under -np, so the count of
+    solves with A is what decides."""
+    import scipy_midpoint
+    lines = ["The contact QP under -np: S's columns gathered (the driver's choice) against an active set on distributed "
+             "solves that never forms S (each active-set iteration solving S_aa lm_a = r_a by CG to 1e-12, warm-started; "
+             "postprocess/scipy_midpoint.py, strategy=), on the scene ball to T = 20 (serial SuperLU; under -np each "
+             "solve is a Krylov solve):", "",
+             "| mesh | dofs | Gamma_C nodes | strategy | solves with A | predictor | Schur columns | corrections | CG products "
+             "| warm starts | solves / QP step | largest CG | same active sets | max abs u3_low difference | ms/step (scipy) |",
+             "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"]
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    for mesh, path in STRATEGY_MESHES:
+        print(f"bench: contact strategies on {mesh} ...", flush=True)
+        res = {k: scipy_midpoint.run(os.path.join(root, path), T=20.0, strategy=k) for k in ("gathered", "matrix-free")}
+        ga = res["gathered"]["history"]
+        for k, r in res.items():
+            h, by = r["history"], r["solves_by_purpose"]
+            same = bool((h["active_nodes"] == ga["active_nodes"]).all()
+                        and (h["active_set_iterations"] == ga["active_set_iterations"]).all())
+            lines.append(f"| {mesh} | {r['dofs']} | {r['contact_nodes']} | {k} | {r['solves']} | {by.get('predictor', 0)} | "
+                         f"{by.get('schur_columns', 0)} | {by.get('correction', 0)} | {by.get('cg_products', 0)} | "
+                         f"{by.get('warm_start', 0)} | {(r['solves'] - r['steps']) / r['qp_steps'] + 1:.1f} | "
+                         f"{r['cg_max_iterations']} | {same} | {np.abs(h['u3_low'] - ga['u3_low']).max():.1e} | "
+                         f"{r['ms_per_step']:.1f} |")
+        ratio = res["matrix-free"]["solves"] / res["gathered"]["solves"]
+        lines.append(f"| {mesh} | | | matrix-free / gathered | {ratio:.1f}x | | | | | | | | | | |")
+    return lines
+
+
+def plot_parallel(table, path):
+    """parallel.png: ms per step and peak memory per process against the vertices, serially and on N processes."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for n in sorted({n for _, n in table}):
+        keys = sorted((k for k in table if k[1] == n), key=lambda k: table[k]["vertices"])
+        v = [table[k]["vertices"] for k in keys]
+        label = f"{n} process{'es' if n > 1 else ''} (ffddm)" if n else "serial (CHOLMOD)"
+        axes[0].loglog(v, [table[k]["ms"] for k in keys], "o-", label=label)
+        axes[1].loglog(v, [table[k]["memory"] for k in keys], "o-", label=label)
+    axes[0].set(xlabel="vertices", ylabel="ms per step (the impact, every step a QP)")
+    axes[1].set(xlabel="vertices", ylabel="peak MiB per process")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 def write_tables(out, stem, rows, text):

@@ -83,7 +83,9 @@ def main():
     ap.add_argument("--out", default="results/csm3")
     ap.add_argument("--cases", default=",".join(CASES), help="comma-separated subset of " + ",".join(CASES))
     ap.add_argument("--jobs", type=jobs.positive_int, default=2)
+    jobs.add_processes_option(ap)
     a = ap.parse_args()
+    jobs.use_processes(a.np)
     out = os.path.abspath(a.out)
     cases = a.cases.split(",")
     for c in cases:

@@ -464,7 +464,9 @@ def main():
     ap.add_argument("--cases", default=",".join(CASES), help="comma-separated subset of " + ",".join(CASES))
     ap.add_argument("--jobs", type=jobs.positive_int, default=2)
     ap.add_argument("--scene", default=SCENE, help="the scene file (default edp/scenes/hertz.idp)")
+    jobs.add_processes_option(ap)
     a = ap.parse_args()
+    jobs.use_processes(a.np)
     names = a.cases.split(",")
     for c in names:
         if c not in CASES:

@@ -79,13 +79,59 @@ def finished(p):
         raise Interrupted()
 
 
-def run(cmd, **kwargs):
+def _run(cmd, **kwargs):
     p = start(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
     try:
         out, err = p.communicate()
     finally:
         finished(p)
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
+# ---- --np N (issue 26, docs/parallel.md): a target's runs on N processes each (edp/run.sh -np N), JOBS of them
+# at a time. A run that -np refuses (IPOPT, Nitsche, Newmark, Verlet: their own factorisations) runs on one
+# process instead, with a note; its one error line says why.
+processes = 0
+
+
+def add_processes_option(parser):
+    """The targets' --np N (make TARGET NP=N)."""
+    parser.add_argument("--np", type=positive_int, default=0, metavar="N",
+                        help="processes of each run (edp/run.sh -np N; runs that -np refuses run on one process)")
+
+
+def use_processes(n):
+    global processes
+    processes = n or 0
+
+
+def is_driver_run(cmd):
+    return len(cmd) >= 3 and os.path.basename(str(cmd[0])) == "run.sh"
+
+
+def on_processes(cmd):
+    """cmd with -np N after edp/run.sh's SCENE and OUT, when --np N was given."""
+    return list(cmd[:3]) + ["-np", str(processes)] + list(cmd[3:]) if processes and is_driver_run(cmd) else list(cmd)
+
+
+def refused_by_np(p):
+    return p.returncode == 3 and "does not run on -np" in (p.stderr or "")
+
+
+def run_processes(cmd, launch):
+    """launch(cmd) on --np N processes; a run that -np refuses again on one process, with a note."""
+    p = launch(on_processes(cmd))
+    if processes and is_driver_run(cmd) and refused_by_np(p):
+        reason = [line for line in p.stderr.splitlines() if "does not run on -np" in line][0]
+        print(f"note: {cmd[1]} {' '.join(map(str, cmd[3:]))} runs on one process ({reason[len('error: '):]})", flush=True)
+        p = launch(list(cmd))
+    return p
+
+
+def run(cmd, **kwargs):
+    """subprocess.run(cmd, capture_output=True, text=True) in a process group of its own (see the top), with
+    --np N for a run of edp/run.sh."""
+    return run_processes(cmd, lambda c: _run(c, **kwargs))
 
 
 def _signal_groups(sig):

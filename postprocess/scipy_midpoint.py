@@ -144,7 +144,8 @@ def reference_vertex(xyz, contact):
 # ---- the run
 
 def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=BALL["mu"], fz=BALL["fz"],
-        u0z=BALL["u0z"], permc_spec="MMD_AT_PLUS_A", symmetric=True, contact_label=1):
+        u0z=BALL["u0z"], permc_spec="MMD_AT_PLUS_A", symmetric=True, contact_label=1, strategy="gathered",
+        cg_tol=1e-12):
     """The scheme from u^0 = (0, 0, u0z), v^0 = 0 to T on the flat foundation X3 = 0. Returns a dict: the
     history arrays (step, t, u3_low, energy, modified_energy, active_nodes, qp_solved, active_set_iterations),
     the sizes (vertices, dofs, contact_nodes, reference_vertex), the Schur columns computed, and the timings
@@ -155,7 +156,14 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
     SuperLU's options: A is symmetric positive definite, so by default (symmetric=True) the factorisation
     keeps the symmetric ordering of A + A' (permc_spec MMD_AT_PLUS_A) with diagonal pivots (SymmetricMode,
     diag_pivot_thresh 0); symmetric=False, permc_spec="COLAMD" is splu's own default (more fill: slower
-    solves on the ball's meshes)."""
+    solves on the ball's meshes).
+    strategy: how the QP's active set gets its Schur products (docs/parallel.md). "gathered" (the driver's): S's
+    columns, one solve with A each, computed as nodes first enter the set and cached for the run. "matrix-free":
+    S is never formed; each active-set iteration solves S_aa lm_a = r_a by conjugate gradients to cg_tol
+    (relative residual), one solve with A a product S p = P_z' A^-1 P_z p, warm-started from the previous lm;
+    y = A^-1 P_z lm is accumulated along CG (one more solve only when the warm start drops a node), so
+    w = y[zd] - r and x = x_free + y need none; the update keeps lm_j > 0 on the set and w_j < 0 off it (the
+    gathered rule lm_j - w_j / S_jj > 0 with w_a = 0). Both count their solves (solves, by_purpose)."""
     t0 = time.perf_counter()
     xyz, tets, tris = read_msh22(mesh, contact_label)
     t1, c1_cpu = time.perf_counter(), time.process_time()
@@ -181,6 +189,15 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
     S_diag = np.ones(nc)
     known = np.zeros(nc, dtype=bool)
     columns = 0
+    if strategy not in ("gathered", "matrix-free"):
+        raise ValueError(f"strategy must be gathered or matrix-free; got {strategy!r}")
+    by_purpose = {}
+    cg_max = 0
+
+    def solve(b, purpose):
+        """A^-1 b, counted (one solve per right-hand side)."""
+        by_purpose[purpose] = by_purpose.get(purpose, 0) + (1 if b.ndim == 1 else b.shape[1])
+        return lu.solve(b)
 
     def add_columns(mask):
         nonlocal columns
@@ -189,11 +206,36 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
             return
         E = np.zeros((n, len(new)))
         E[zd[new], np.arange(len(new))] = 1.0
-        Z = lu.solve(E)                                        # one solve per column
+        Z = solve(E, "schur_columns")                          # one solve per column
         S[:, new] = Z[zd, :]
         S_diag[new] = S[new, new]
         known[new] = True
         columns += len(new)
+
+    def schur_cg(a, rhs, lm0, y0):
+        """matrix-free: CG on S_aa lm_a = rhs from lm0 (zero off a; y0 = A^-1 P_z lm0); returns lm, y."""
+        nonlocal cg_max
+        lm, y = lm0.copy(), y0.copy()
+        res = rhs - y[zd[a]]
+        p = res.copy()
+        rr, tol2 = res.dot(res), (cg_tol * np.linalg.norm(rhs)) ** 2
+        its, b = 0, np.zeros(n)
+        while rr > tol2:
+            its += 1
+            if its > 10 * len(a) + 100:
+                raise RuntimeError("the matrix-free active set's CG did not converge")
+            b[zd[a]] = p
+            z = solve(b, "cg_products")                        # S_aa p = z[zd[a]]
+            q = z[zd[a]]
+            alpha = rr / p.dot(q)
+            lm[a] += alpha * p
+            y += alpha * z
+            res -= alpha * q
+            rr_new = res.dot(res)
+            p = res + (rr_new / rr) * p
+            rr = rr_new
+        cg_max = max(cg_max, its)
+        return lm, y
 
     u = np.zeros(n)
     u[2::3] = u0z
@@ -209,20 +251,53 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
         hist["active_nodes"][k] = np.count_nonzero(lm > active_threshold)
         hist["qp_solved"][k], hist["active_set_iterations"][k] = qp, its
 
+    def check_kkt(k, x, lm):
+        gap = g + x[zd]                                        # g - C x
+        if (gap.min() < -kkt_tol or lm.min() < 0
+                or np.abs(lm * gap).max() > kkt_tol * max(1.0, np.abs(lm).max())):
+            raise RuntimeError(f"step {k}: the solution fails the KKT check of (10)")
+
     active = np.zeros(nc, dtype=bool)
     lm = np.zeros(nc)
+    y = np.zeros(n)                                            # matrix-free: A^-1 P_z lm
     record(0, 0.0, lm, 0, 0)
     c1 = 2.0 / dt**2
     f = np.zeros(n)
     t3, c3_cpu = time.perf_counter(), time.process_time()
     for k in range(1, steps + 1):
         L = c1 * (M @ (u + dt * v)) - 0.5 * (K @ u) + F
-        x = lu.solve(L)                                        # the free predictor
+        x = solve(L, "predictor")                              # the free predictor
         r = -x[zd] - g                                         # C x_free - g
         qp, its = 0, 0
         if r.max() <= 0:
             lm = np.zeros(nc)
+            y[:] = 0.0
             active[:] = False                                  # (10) holds: the predictor solves (4)
+        elif strategy == "matrix-free":
+            qp = 1
+            changed = True
+            while changed and its < MAX_ACTIVE_SET_ITERATIONS:
+                its += 1
+                a = np.flatnonzero(active)
+                if len(a):
+                    lm0 = np.zeros(nc)
+                    lm0[a] = lm[a]
+                    if np.any(lm0 != lm):                      # the warm start drops a node: its image costs a solve
+                        b = np.zeros(n)
+                        b[zd] = lm0
+                        y = solve(b, "warm_start")
+                    lm, y = schur_cg(a, r[a], lm0, y)
+                    w = y[zd] - r                              # w = S lm - r
+                else:
+                    lm, y[:] = np.zeros(nc), 0.0
+                    w = -r
+                new = np.where(active, lm > 0, w < 0)
+                changed = bool((new != active).any())
+                active = new
+            if changed:
+                raise RuntimeError(f"step {k}: the active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
+            x += y                                             # x_free - A^-1 C' lm
+            check_kkt(k, x, lm)
         else:
             qp = 1
             changed = True
@@ -242,11 +317,8 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
             if changed:
                 raise RuntimeError(f"step {k}: the active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
             f[zd] = -lm                                        # C' lm
-            x -= lu.solve(f)
-            gap = g + x[zd]                                    # g - C x
-            if (gap.min() < -kkt_tol or lm.min() < 0
-                    or np.abs(lm * gap).max() > kkt_tol * max(1.0, np.abs(lm).max())):
-                raise RuntimeError(f"step {k}: the solution fails the KKT check of (10)")
+            x -= solve(f, "correction")
+            check_kkt(k, x, lm)
         v = (2.0 / dt) * (x - u) - v
         u = x
         record(k, k * dt, lm, qp, its)
@@ -257,7 +329,8 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
                 lu_nnz=lu.L.nnz + lu.U.nnz, read_seconds=t1 - t0, setup_seconds=t2 - t1, loop_seconds=t4 - t3,
                 ms_per_step=1e3 * (t4 - t3) / max(steps, 1), setup_cpu_seconds=c2_cpu - c1_cpu,
                 loop_cpu_seconds=c4_cpu - c3_cpu, cpu_ms_per_step=1e3 * (c4_cpu - c3_cpu) / max(steps, 1),
-                solves=steps + int(hist["qp_solved"].sum()) + columns)
+                solves=sum(by_purpose.values()), solves_by_purpose=by_purpose, strategy=strategy,
+                cg_max_iterations=cg_max)
 
 
 def write_history(path, hist):

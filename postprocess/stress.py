@@ -263,7 +263,9 @@ def main():
                    help="only the Neo-Hookean cases, into summary_neohookean.md (summary.md is left as it is)")
     p.add_argument("--ball-only", action="store_true",
                    help="only the 3D ball's cases (BALL_CASES), into summary_ball.md (summary.md is left as it is)")
+    jobs.add_processes_option(p)
     a = p.parse_args()
+    jobs.use_processes(a.np)
     os.makedirs(a.out, exist_ok=True)
     summary = "summary_neohookean.md" if a.nh_only else "summary_methods.md" if a.methods_only else \
         "summary_ball.md" if a.ball_only else "summary.md"

@@ -403,7 +403,9 @@ def main():
     p = jobs.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "svk"))
     p.add_argument("--jobs", type=jobs.positive_int, default=2)
+    jobs.add_processes_option(p)
     a = p.parse_args()
+    jobs.use_processes(a.np)
     out = os.path.abspath(a.out)
     for case in CASES:
         os.makedirs(os.path.join(out, case), exist_ok=True)
