@@ -142,6 +142,8 @@ def main():
                    help="only the 3D ball's cases (issue 25), into bench_ball.md and .csv (bench.md is left as it is)")
     p.add_argument("--parallel-only", action="store_true",
                    help="only the -np N cases (issue 26), into bench_parallel.md and .csv and parallel.png")
+    p.add_argument("--meshes", help="with --parallel-only: only these of its meshes (comma-separated names, e.g. "
+                   "ball,ball_medium)")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
@@ -150,7 +152,8 @@ def main():
     stem = "bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else "bench"
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
     if a.ball_only or a.parallel_only:
-        rows, text = (ball_section if a.ball_only else parallel_section)(a.out, a.repeat)
+        rows, text = (ball_section(a.out, a.repeat) if a.ball_only else
+                      parallel_section(a.out, a.repeat, a.meshes.split(",") if a.meshes else None))
         print(text)
         write_tables(a.out, stem, rows, text)
         return
@@ -433,21 +436,24 @@ def ball_section(out_base, repeat):
 
 
 # ---- -np N (issue 26): the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
-# PARALLEL_T, on 1, 2 and 4 processes beside the serial direct solver
+# PARALLEL_T (50 steps on the small meshes, where 10 would be lost in the start-up's noise; 10 on the large ones),
+# on 1, 2 and 4 processes beside the serial direct solver
 PARALLEL_MESHES = BALL_MESHES + [("ball_refine6", "meshes/ball_refine6.msh")]
 PARALLEL_NP = {"ball": [1, 2, 4], "ball_medium": [1, 2, 4], "ball_refine4": [1, 2, 4], "ball_refine6": [2]}
-PARALLEL_T = "0.5"
+PARALLEL_T = {"ball": "2.5", "ball_medium": "2.5", "ball_refine4": "0.5", "ball_refine6": "0.5"}
 
 
-def parallel_section(out_base, repeat):
-    """The -np rows: for each mesh of PARALLEL_MESHES, serially and on each N of PARALLEL_NP, a one-step run (the
-    set-up) and a run to PARALLEL_T. Returns (rows for bench.csv, the text); draws parallel.png into out_base."""
+def parallel_section(out_base, repeat, only=None):
+    """The -np rows: for each mesh of PARALLEL_MESHES (or those named in `only`), serially and on each N of
+    PARALLEL_NP, a one-step run (the set-up) and a run to PARALLEL_T. Returns (rows for bench.csv, the text);
+    draws parallel.png into out_base."""
     rows, by, runs = [], {}, {}
-    for mesh, path in PARALLEL_MESHES:
+    meshes = [(m, path) for m, path in PARALLEL_MESHES if not only or m in only]
+    for mesh, path in meshes:
         for n in [0] + PARALLEL_NP[mesh]:
             who = f"np {n}" if n else "serial"
             extra = ["-np", str(n)] if n else []
-            for horizon in ("0.05", PARALLEL_T):
+            for horizon in ("0.05", PARALLEL_T[mesh]):
                 name = f"parallel {mesh} {who} T={horizon}"
                 print(f"bench: {name} ...", flush=True)
                 r = timed_case(out_base, name.replace(" ", "_").replace("=", ""), "ball",
@@ -455,20 +461,21 @@ def parallel_section(out_base, repeat):
                 r["case"] = name
                 rows.append(r)
                 by[name] = r
-            runs[(mesh, n)] = os.path.join(out_base, f"parallel_{mesh}_{who.replace(' ', '_')}_T{PARALLEL_T}")
+            runs[(mesh, n)] = os.path.join(out_base, f"parallel_{mesh}_{who.replace(' ', '_')}_T{PARALLEL_T[mesh]}")
     lines = case_table(rows)
-    lines += ["", f"The ball starting in contact at Test 1's impact speed, to T = {PARALLEL_T} (every step a QP): set-up is the "
+    lines += ["", "The ball starting in contact at Test 1's impact speed (every step a QP), to T = "
+              + ", ".join(f"{PARALLEL_T[m]} on {m}" for m, _ in meshes) + ": set-up is the "
               "wall time of a one-step run, ms/step the rest per further step; solves are those with A (the predictor, the "
               "Schur columns of the nodes that enter the contact, the correction); memory is the largest process's peak.", "",
               "| mesh | vertices | dofs | processes | set-up s | ms/step | solves/step | Krylov it/solve | peak MiB/process | "
               "ms/step / serial | max abs u3_low difference from serial |",
               "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     table = {}
-    for mesh, _ in PARALLEL_MESHES:
+    for mesh, _ in meshes:
         serial = None
         for n in [0] + PARALLEL_NP[mesh]:
             who = f"np {n}" if n else "serial"
-            one, run = by[f"parallel {mesh} {who} T=0.05"], by[f"parallel {mesh} {who} T={PARALLEL_T}"]
+            one, run = by[f"parallel {mesh} {who} T=0.05"], by[f"parallel {mesh} {who} T={PARALLEL_T[mesh]}"]
             summary = read_summary(runs[(mesh, n)])
             ms = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
             solves = int(summary["schur_solves"]) + run["steps"] + run["qp_steps"]
@@ -481,20 +488,20 @@ def parallel_section(out_base, repeat):
                          f"{run['peak_MiB']:.0f} | {ms / serial[1]:.2f} | {gap:.2g} |")
     lines.append("")
     for n in (1, 2, 4):
-        meshes = [m for m, _ in PARALLEL_MESHES if n in PARALLEL_NP[m]]
-        faster = [m for m in meshes if table[(m, n)]["ms"] < table[(m, 0)]["ms"]]
+        on_n = [m for m, _ in meshes if n in PARALLEL_NP[m]]
+        faster = [m for m in on_n if table[(m, n)]["ms"] < table[(m, 0)]["ms"]]
         lines.append(f"- {n} process{'es' if n > 1 else ''}: faster than the serial direct solver per step on "
-                     + (", ".join(faster) if faster else "none of " + ", ".join(meshes))
+                     + (", ".join(faster) if faster else "none of " + ", ".join(on_n))
                      + "; memory per process " + ", ".join(f"{m} {table[(m, n)]['memory'] / table[(m, 0)]['memory']:.2f}x"
-                                                           for m in meshes) + " the serial run's")
+                                                           for m in on_n) + " the serial run's")
     plot_parallel(table, os.path.join(out_base, "parallel.png"))
-    return rows, "\n".join(lines + [""] + strategy_lines())
+    return rows, "\n".join(lines + [""] + strategy_lines(only))
 
 
 STRATEGY_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh")]
 
 
-def strategy_lines():
+def strategy_lines(only=None):
     """The contact QP's two strategies under -np (docs/parallel.md), counted on scipy_midpoint's scheme (the same
     active set as the driver's) for the scene ball to T = 20: the Schur columns gathered, or S never formed (CG
     on S_aa, one solve with A a product). Every solve is a distributed Krylov solve under -np, so the count of
@@ -509,6 +516,8 @@ def strategy_lines():
              "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"]
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     for mesh, path in STRATEGY_MESHES:
+        if only and mesh not in only:
+            continue
         print(f"bench: contact strategies on {mesh} ...", flush=True)
         res = {k: scipy_midpoint.run(os.path.join(root, path), T=20.0, strategy=k) for k in ("gathered", "matrix-free")}
         ga = res["gathered"]["history"]
