@@ -4,7 +4,6 @@ the same history to the Krylov tolerance, the same steps with a QP and the same 
 (written by process 0 only), a restart with another N, and every refusal and failure path (one line, the
 documented status, no process left waiting)."""
 import os
-import shutil
 import signal
 import subprocess
 import time
@@ -12,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import RUN, error_lines, files_of, run_scene, run_scenes
+from conftest import RUN, error_lines, files_of, refused_into_copy, run_scene, run_scenes
 from history import read_run, read_summary
 
 QUIET = ["-progress", "0"]
@@ -136,13 +135,10 @@ REFUSED = [
 def test_parallel_refusals_are_one_line_and_change_nothing(tmp_path, earlier_ball, args, status, message):
     """What -np N does not run, and a bad -np, is one error line with exit 3, and the earlier run in the
     directory stays byte-identical."""
-    out = tmp_path / "copy"
-    shutil.copytree(earlier_ball, out)
-    before = files_of(out)
-    p = run_scene("ball", out, ["-T", "1"] + QUIET + args, check=False, timeout=120)
+    p, changed = refused_into_copy(tmp_path, earlier_ball, "ball", ["-T", "1"] + QUIET + args, timeout=120)
     assert p.returncode == status, p.stderr
     assert len(error_lines(p)) == 1 and message in error_lines(p)[0], p.stderr
-    assert files_of(out) == before
+    assert not changed
 
 
 def test_a_plane_refusal_names_the_method(tmp_path):
