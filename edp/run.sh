@@ -266,7 +266,9 @@ run_freefem() {
 awk_lines=()
 awk -W version 2>/dev/null | grep -q mawk && awk_lines=(-W interactive)
 # (No exec: the subshell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
+# (trace: FreeFEM's error traces, and mpirun's report of a process that died; any process's stops a parallel run)
 run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
+    -v trace='Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code' \
     -v scene="$scene_file" -v errfile="$errfile" '
   function newline() { if (pending) { printf "\n"; pending = 0 } }
   function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
@@ -274,9 +276,9 @@ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ 
            if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
                                                                   rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
   tagged && /^exit-status [0-9]+$/ { stop($2); next }
-  tagged && rank != 0 {
-    if (/Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code/ && $0 !~ /^(error|warning): /) {
-      if (detail == "") { detail = "process " rank ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
+  tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
+    if ($0 ~ trace && $0 !~ /^(error|warning): /) {
+      if (detail == "") { detail = (rank < 0 ? "mpirun" : "process " rank) ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
       stop("crash")
     }
     next }
@@ -304,7 +306,7 @@ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ 
   /^ Error opening file / { if (opened == "") { opened = $0; sub(/^ Error opening file /, "", opened) } next }
   /Exec error|Assertion fail|Error|error|Segmentation fault|Aborted|Killed|Out of bound|bug/ {
     if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
-    if (tagged && /Exec error|Assertion fail|Segmentation fault|Aborted|Out of bound|err code/) stop("crash")
+    if (tagged && $0 ~ trace) stop("crash")
     next }
   { next }
   END { newline()
