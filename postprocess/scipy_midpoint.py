@@ -251,6 +251,45 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
         hist["active_nodes"][k] = np.count_nonzero(lm > active_threshold)
         hist["qp_solved"][k], hist["active_set_iterations"][k] = qp, its
 
+    # one iteration of the active set: lm on the set (zero off it), w = S lm - r, and the next set
+    def gathered_iteration(active, r, lm):
+        lm = np.zeros(nc)
+        a = np.flatnonzero(active)
+        if len(a):
+            add_columns(active)
+            lm[a] = np.linalg.solve(S[np.ix_(a, a)], r[a])
+            w = S[:, a] @ lm[a] - r                            # (lm = 0 off the set)
+        else:
+            w = -r
+        return lm, lm - w / S_diag > 0
+
+    def gathered_correction(lm):
+        f[zd] = -lm                                            # C' lm
+        return -solve(f, "correction")
+
+    def matrix_free_iteration(active, r, lm):
+        nonlocal y
+        a = np.flatnonzero(active)
+        if len(a):
+            lm0 = np.zeros(nc)
+            lm0[a] = lm[a]
+            if np.any(lm0 != lm):                              # the warm start drops a node: its image costs a solve
+                b = np.zeros(n)
+                b[zd] = lm0
+                y = solve(b, "warm_start")
+            lm, y = schur_cg(a, r[a], lm0, y)
+            w = y[zd] - r
+        else:
+            lm, y[:] = np.zeros(nc), 0.0
+            w = -r
+        return lm, np.where(active, lm > 0, w < 0)
+
+    def matrix_free_correction(lm):
+        return y                                               # A^-1 P_z lm, accumulated along CG
+
+    iteration, correction = ((gathered_iteration, gathered_correction) if strategy == "gathered"
+                             else (matrix_free_iteration, matrix_free_correction))
+
     def check_kkt(k, x, lm):
         gap = g + x[zd]                                        # g - C x
         if (gap.min() < -kkt_tol or lm.min() < 0
@@ -273,51 +312,17 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
             lm = np.zeros(nc)
             y[:] = 0.0
             active[:] = False                                  # (10) holds: the predictor solves (4)
-        elif strategy == "matrix-free":
-            qp = 1
-            changed = True
-            while changed and its < MAX_ACTIVE_SET_ITERATIONS:
-                its += 1
-                a = np.flatnonzero(active)
-                if len(a):
-                    lm0 = np.zeros(nc)
-                    lm0[a] = lm[a]
-                    if np.any(lm0 != lm):                      # the warm start drops a node: its image costs a solve
-                        b = np.zeros(n)
-                        b[zd] = lm0
-                        y = solve(b, "warm_start")
-                    lm, y = schur_cg(a, r[a], lm0, y)
-                    w = y[zd] - r                              # w = S lm - r
-                else:
-                    lm, y[:] = np.zeros(nc), 0.0
-                    w = -r
-                new = np.where(active, lm > 0, w < 0)
-                changed = bool((new != active).any())
-                active = new
-            if changed:
-                raise RuntimeError(f"step {k}: the active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
-            x += y                                             # x_free - A^-1 C' lm
-            check_kkt(k, x, lm)
         else:
             qp = 1
             changed = True
             while changed and its < MAX_ACTIVE_SET_ITERATIONS:
                 its += 1
-                lm = np.zeros(nc)
-                a = np.flatnonzero(active)
-                if len(a):
-                    add_columns(active)
-                    lm[a] = np.linalg.solve(S[np.ix_(a, a)], r[a])
-                    w = S[:, a] @ lm[a] - r                    # w = S lm - r (lm = 0 off the set)
-                else:
-                    w = -r
-                new = lm - w / S_diag > 0
+                lm, new = iteration(active, r, lm)
                 changed = bool((new != active).any())
                 active = new
             if changed:
                 raise RuntimeError(f"step {k}: the active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
-            f[zd] = -lm                                        # C' lm
-            x -= solve(f, "correction")
+            x += correction(lm)                                # x_free - A^-1 C' lm
             check_kkt(k, x, lm)
         v = (2.0 / dt) * (x - u) - v
         u = x
