@@ -301,17 +301,10 @@ def bounded(kind, low, high, what):
     return parse
 
 
-def path(text):
-    """argparse type: a path, not empty."""
-    if not text.strip():
-        raise argparse.ArgumentTypeError("must be a path, got an empty one")
-    return text
-
-
 def main(argv=None):
     p = jobs.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--run", required=True, type=path, help="the run directory (with run.pvd)")
-    p.add_argument("--out", type=path, help="the GIF (default DIR/animation.gif); the MP4 is beside it, same name")
+    p.add_argument("--run", required=True, type=jobs.path, help="the run directory (with run.pvd)")
+    p.add_argument("--out", type=jobs.path, help="the GIF (default DIR/animation.gif); the MP4 is beside it, same name")
     p.add_argument("--mp4", action="store_true", help="also an MP4, when ffmpeg is on PATH")
     p.add_argument("--fps", type=bounded(int, 1, MAX_FPS, f"an integer from 1 to {MAX_FPS} (frames a second)"),
                    default=12, help=f"frames per second, 1 to {MAX_FPS} (default 12)")
