@@ -5,8 +5,10 @@
 One frame per snapshot time of DIR/run.pvd (a run with -vtk 1 and snapshots, e.g. -snapshots every:0.25):
 the body at its deformed position (points + displacement of vonmises_t<t>.vtu) coloured by the von Mises
 stress per triangle, its boundary, the foundation polyline of that time (foundation_t<t>.vtu) with the
-ground below it, and the time. The colour scale (0 to the largest von Mises of all frames, or --vmax) and
-the axes (the body over all frames and the foundation under it) are the same in every frame.
+ground below it, and the time. A 3D body is seen along X2: its section by the plane X2 = 0 in (X1 + u1,
+X3 + u3), coloured per tetrahedron, and the foundation's section by that plane. The colour scale (0 to
+the largest von Mises of all frames, or --vmax) and the axes (the body over all frames and the
+foundation under it) are the same in every frame.
 
 Writes DIR/animation.gif (Pillow), and with --mp4 also the .mp4 beside it when ffmpeg is on PATH (without
 it, a `note:` line says it is skipped). Each file is written under a temporary name in its directory and
@@ -14,10 +16,13 @@ renamed when complete, so a failure leaves no half file. On stdout, a line `anim
 10 frames, then one naming the files written, the frame count, their sizes and the time taken; on stderr,
 only `note:` and `error:` lines.
 
-Exit status: 0 written; 2 bad usage; 3 bad input (no run.pvd, a listed .vtu missing or unreadable,
-fewer than 2 frames, an --out that is not a .gif); 7 a file could not be written.
+Exit status: 0 written; 2 bad usage (an option out of its range: --fps 1 to 50, --dpi 10 to 300, --vmax
+positive and finite; an empty path); 3 bad input (no run.pvd, a listed .vtu missing or unreadable, fewer
+than 2 frames, a 3D body that the plane X2 = 0 misses, an --out that is not a .gif, frames of more than
+500 million pixels in all); 7 a file could not be written.
 """
 import argparse
+import math
 import os
 import shutil
 import subprocess
@@ -33,8 +38,14 @@ import meshio  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+from PIL import Image  # noqa: E402
+
+import jobs  # noqa: E402
 
 BAD_INPUT, WRITE_FAILED = 3, 7
+MAX_FPS = 50                 # a GIF's frame delay is in hundredths of a second; browsers slow 0.01 s to 0.1 s
+MAX_DPI = 300                # a frame of at most 1500 x 1920 px (the figure is 5 in wide, at most 6.4 in high)
+MAX_PIXELS = 500_000_000     # the GIF's frames in all (a byte each in memory, twice while Pillow writes them)
 
 
 class Refused(Exception):
@@ -72,23 +83,96 @@ def read_vtu(path):
         raise Refused(BAD_INPUT, f"cannot read {path}: {str(err) or 'not a complete .vtu'}")
 
 
+def body_2d(m, body):
+    """A 2D body: its triangles at the deformed position, their von Mises, its boundary lines."""
+    try:
+        xy = m.points[:, :2] + m.point_data["displacement"][:, :2]
+        vm = m.cell_data_dict["vonmises"]["triangle"].ravel()
+        tri = m.cells_dict["triangle"]
+    except KeyError as err:
+        raise Refused(BAD_INPUT, f"{body} has no {err} (not a body .vtu of this suite?)")
+    lines = m.cells_dict.get("line")
+    return {"xy": xy, "polys": xy[tri], "vonmises": vm, "segments": xy[lines] if lines is not None else []}
+
+
+# the edges of a tetrahedron (a triangle) whose vertices, sorted negative side first, are split k | rest
+# by the plane, in the order of a cycle around their section (a triangle or a quadrilateral)
+CUT_EDGES = {4: {1: [(0, 1), (0, 2), (0, 3)], 2: [(0, 2), (0, 3), (1, 3), (1, 2)], 3: [(0, 3), (1, 3), (2, 3)]},
+             3: {1: [(0, 1), (0, 2)], 2: [(0, 2), (1, 2)]}}
+
+
+def cut(cells, X2, *fields):
+    """The sections of cells (tetrahedra or triangles: vertex indices) by the plane X2 = 0: a list, one
+    item per number k of vertices on the negative side, of (the indices of the cells cut, and for each of
+    fields (point arrays) its values at the section's corners, shape (cells, corners, ...)). A vertex on
+    the plane counts as on the positive side, so a face in the plane is cut once. Every field is linear
+    on a P1 cell, so its value at a corner, on an edge, is the edge's linear interpolation: exact."""
+    neg = X2[cells] < 0
+    order = np.argsort(~neg, axis=1, kind="stable")
+    ordered = np.take_along_axis(cells, order, axis=1)
+    out = []
+    for k, edges in CUT_EDGES[cells.shape[1]].items():
+        sel = np.flatnonzero(neg.sum(axis=1) == k)
+        i = ordered[sel][:, [a for a, _ in edges]]
+        j = ordered[sel][:, [b for _, b in edges]]
+        s = (X2[i] / (X2[i] - X2[j]))[..., None]
+        out.append((sel, [f[i] + s * (f[j] - f[i]) for f in fields]))
+    return out
+
+
+def boundary_faces(tets):
+    """The faces of a tetrahedral mesh that belong to one tetrahedron only: its boundary triangles."""
+    faces = np.sort(np.vstack([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]]), axis=1)
+    unique, count = np.unique(faces, axis=0, return_counts=True)
+    return unique[count == 1]
+
+
+def body_3d(m, body):
+    """A 3D body seen along X2: its section by the plane X2 = 0 of the reference configuration at the
+    deformed position (X1 + u1, X3 + u3), each piece (the section of a tetrahedron) coloured by the
+    tetrahedron's von Mises, and the section of its boundary as segments."""
+    try:
+        X, tets = m.points, m.cells_dict["tetra"]
+        xz = (X + m.point_data["displacement"])[:, [0, 2]]
+        vm = m.cell_data_dict["vonmises"]["tetra"].ravel()
+    except KeyError as err:
+        raise Refused(BAD_INPUT, f"{body} has no {err} (not a body .vtu of this suite?)")
+    polys, values = [], []
+    for sel, (corners,) in cut(tets, X[:, 1], xz):
+        polys += list(corners)
+        values.append(vm[sel])
+    if not polys:
+        raise Refused(BAD_INPUT, f"the plane X2 = 0, the 3D view of the animation, does not cut the body of {body}")
+    segments = np.vstack([c for _, (c,) in cut(boundary_faces(tets), X[:, 1], xz)])
+    return {"xy": np.vstack(polys), "polys": polys, "vonmises": np.concatenate(values), "segments": segments}
+
+
+def foundation_line(f, dim):
+    """The foundation's polyline (X1, X2) in 2D; in 3D, the section of its surface X3 = psi by the plane
+    X2 = 0 as the polyline (X1, X3), in increasing X1 (None when the plane misses it)."""
+    if dim == 2:
+        return f.points[:, :2]
+    pieces = cut(f.cells_dict.get("triangle", np.zeros((0, 3), int)), f.points[:, 1], f.points[:, [0, 2]])
+    points = np.unique(np.vstack([c.reshape(-1, 2) for _, (c,) in pieces]), axis=0)
+    return points if len(points) > 1 else None
+
+
 def load_frames(run_dir):
-    """Every frame of the run: dicts with t, xy (deformed points), tri, edges (boundary lines), vonmises
-    (per triangle) and foundation (its polyline's points, or None)."""
+    """Every frame of the run: dicts with t, dim, xy (every point drawn of the body), polys (the pieces of
+    the body drawn, at the deformed position), vonmises (per piece), segments (its boundary) and
+    foundation (its polyline's points, or None). A 2D body is drawn whole; a 3D one by its section X2 = 0."""
     frames = []
     for t, body, foundation in series(run_dir):
         m = read_vtu(body)
-        try:
-            xy = m.points[:, :2] + m.point_data["displacement"][:, :2]
-            vm = m.cell_data_dict["vonmises"]["triangle"].ravel()
-            tri = m.cells_dict["triangle"]
-        except KeyError as err:
-            raise Refused(BAD_INPUT, f"{body} has no {err} (not a body .vtu of this suite?)")
-        frames.append({"t": t, "xy": xy, "tri": tri, "edges": m.cells_dict.get("line"), "vonmises": vm,
-                       "foundation": read_vtu(foundation).points[:, :2] if foundation else None})
+        dim = 3 if "tetra" in m.cells_dict else 2
+        frame = body_3d(m, body) if dim == 3 else body_2d(m, body)
+        frame.update(t=t, dim=dim, foundation=foundation_line(read_vtu(foundation), dim) if foundation else None)
+        frames.append(frame)
     if len(frames) < 2:
         raise Refused(BAD_INPUT, f"{run_dir}/run.pvd has {len(frames)} snapshot time(s); an animation needs 2 or more "
                                  "(e.g. -snapshots every:0.25)")
+    if len({f["dim"] for f in frames}) > 1:
+        raise Refused(BAD_INPUT, f"{run_dir}/run.pvd mixes 2D and 3D bodies")
     return frames
 
 
@@ -125,16 +209,20 @@ def draw(frames, vmax=None):
     ground, = ax.fill([], [], facecolor="0.9", edgecolor="0.6", linewidth=0, hatch="//", zorder=0)
     line, = ax.plot([], [], "k-", lw=1.5)
     clock = ax.set_title(" ", loc="left", family="monospace")
-    label = "von Mises stress (fixed scale: 0 to " + (f"{vmax_:.3g}, --vmax)" if vmax is not None
-                                                       else f"the max over all frames, {vmax_:.3g})")
+    if frames[0]["dim"] == 3:
+        ax.set_title("section X2 = 0, seen along X2", loc="right", fontsize=9)
+        ax.set(xlabel="X1", ylabel="X3")
+    what, whose = ("section's von Mises", "its") if frames[0]["dim"] == 3 else ("von Mises stress", "the")
+    label = f"{what} (fixed scale: 0 to " + (f"{vmax_:.3g}, --vmax)" if vmax is not None
+                                              else f"{whose} max over all frames, {vmax_:.3g})")
     fig.colorbar(body, ax=ax, orientation="horizontal", fraction=0.04, shrink=0.9, aspect=36,
                  extend="max" if vmax is not None else "neither").set_label(label, fontsize=9)
 
     def frame(k):
         f = frames[k]
-        body.set_verts(f["xy"][f["tri"]])
+        body.set_verts(f["polys"])
         body.set_array(f["vonmises"])
-        outline.set_segments(f["xy"][f["edges"]] if f["edges"] is not None else [])
+        outline.set_segments(f["segments"])
         if f["foundation"] is not None:
             fx, fy = f["foundation"][:, 0], f["foundation"][:, 1]
             line.set_data(fx, fy)
@@ -146,13 +234,38 @@ def draw(frames, vmax=None):
     return fig, frame
 
 
+class GifWriter(animation.PillowWriter):
+    """matplotlib's PillowWriter keeping each frame as the palette image the GIF stores (one byte a pixel)
+    instead of RGBA (four), converted as Pillow's GIF writer converts it: the same file, a quarter of the
+    memory."""
+
+    def grab_frame(self, **savefig_kwargs):
+        super().grab_frame(**savefig_kwargs)
+        im = self._frames[-1].convert("P", palette=Image.Palette.ADAPTIVE)
+        clear = [k for c, k in im.palette.colors.items() if c[3:] == (0,)]    # (as GifImagePlugin does)
+        if im.palette.mode == "RGBA" and clear:
+            im.info["transparency"] = clear[0]
+        self._frames[-1] = im
+
+
 def write(frames, targets, fps, dpi, vmax=None):
     """Render every frame into each target (a .gif, and a .mp4 if listed), each under a temporary name
-    renamed when complete; whatever happens, no temporary file is left."""
+    renamed when complete; whatever happens, no temporary file is left. Refused before rendering when
+    the GIF's frames would exceed MAX_PIXELS in all, or a target is a directory."""
     fig, frame = draw(frames, vmax)
-    writers = [animation.PillowWriter(fps=fps), animation.FFMpegWriter(fps=fps)][:len(targets)]
+    width, height = (int(x * dpi) for x in fig.get_size_inches())    # as matplotlib's writers size a frame
+    if len(frames) * width * height > MAX_PIXELS:
+        plt.close(fig)
+        raise Refused(BAD_INPUT, f"{len(frames)} frames of {width} x {height} px are "
+                                 f"{len(frames) * width * height / 1e6:.0f} million pixels, more than the "
+                                 f"{MAX_PIXELS / 1e6:.0f} million a GIF may hold in memory here: lower --dpi, "
+                                 "or take fewer snapshots")
+    writers = [GifWriter(fps=fps), animation.FFMpegWriter(fps=fps)][:len(targets)]
     parts = [t[:-4] + ".part" + t[-4:] for t in targets]
     try:
+        for target in targets:
+            if os.path.isdir(target):
+                raise IsADirectoryError(f"{target} is a directory")
         for w, part in zip(writers, parts):
             open(part, "wb").close()      # fail before rendering when it cannot be written
             w.setup(fig, part, dpi=dpi)
@@ -175,17 +288,32 @@ def write(frames, targets, fps, dpi, vmax=None):
                 os.remove(part)
 
 
+def bounded(kind, low, high, what):
+    """argparse type: a finite number of kind (int or float) in [low, high] (what it is, for the error)."""
+    def parse(text):
+        try:
+            value = kind(text)
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:      # (False for nan; inf is above any high)
+            raise argparse.ArgumentTypeError(f"must be {what}, got '{text}'")
+        return value
+    return parse
+
+
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--run", required=True, help="the run directory (with run.pvd)")
-    p.add_argument("--out", help="the GIF (default DIR/animation.gif); the MP4 is beside it, same name")
+    p = jobs.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--run", required=True, type=jobs.path, help="the run directory (with run.pvd)")
+    p.add_argument("--out", type=jobs.path, help="the GIF (default DIR/animation.gif); the MP4 is beside it, same name")
     p.add_argument("--mp4", action="store_true", help="also an MP4, when ffmpeg is on PATH")
-    p.add_argument("--fps", type=int, default=12, help="frames per second (default 12)")
-    p.add_argument("--dpi", type=int, default=100, help="pixels per inch of the figure, 5 in wide (default 100)")
-    p.add_argument("--vmax", type=float, help="top of the colour scale (default: the max over all frames)")
+    p.add_argument("--fps", type=bounded(int, 1, MAX_FPS, f"an integer from 1 to {MAX_FPS} (frames a second)"),
+                   default=12, help=f"frames per second, 1 to {MAX_FPS} (default 12)")
+    p.add_argument("--dpi", type=bounded(int, 10, MAX_DPI, f"an integer from 10 to {MAX_DPI} (pixels an inch)"),
+                   default=100, help=f"pixels per inch of the figure, 5 in wide, 10 to {MAX_DPI} (default 100)")
+    p.add_argument("--vmax", type=bounded(float, math.ulp(0.0), sys.float_info.max,
+                                          "a positive finite number (the colour scale's top)"),
+                   help="top of the colour scale (default: the max over all frames)")
     a = p.parse_args(argv)
-    if a.fps < 1 or a.dpi < 10 or (a.vmax is not None and not a.vmax > 0):
-        p.error("--fps must be at least 1, --dpi at least 10 and --vmax positive")
     started = time.time()
     targets = [a.out or os.path.join(a.run, "animation.gif")]
     try:

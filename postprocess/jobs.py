@@ -14,6 +14,7 @@ or in parallel, and stopped whole by Ctrl-C.
 - `ArgumentParser` and `positive_int`, for the targets' --jobs: a bad argument is one line on stderr
   (`error: methods.py: argument --jobs: must be a positive integer, got '0'`) and exit 2, before the
   target removes anything (before, --jobs 0 removed the earlier summary and ended in a traceback).
+  `path`: an argument that names a file or directory, not empty.
 """
 import argparse
 import concurrent.futures
@@ -51,6 +52,13 @@ def positive_int(text):
     if not re.fullmatch(r"[0-9]+", text.strip()) or int(text) < 1:
         raise argparse.ArgumentTypeError(f"must be a positive integer (runs at a time), got '{text}'")
     return int(text)
+
+
+def path(text):
+    """argparse type of a path: not empty (an empty one would name the current directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("must be a path, got an empty one")
+    return text
 
 
 def start(cmd, **kwargs):

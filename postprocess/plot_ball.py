@@ -6,10 +6,10 @@ paper's snapshot times (the vertices within a thin slab about the plane, deforme
 triangulation of (X1 + u1, X3 + u3)), with the foundation, and below each the contact zone seen from
 below: Gamma_C's nodes in (X1, X2), coloured by the contact pressure alpha (grey where it is 0).
 """
-import argparse
 import glob
 import os
 import re
+import sys
 
 import matplotlib
 
@@ -20,7 +20,7 @@ import meshio  # noqa: E402
 import numpy as np  # noqa: E402
 
 from history import read_csv, read_run  # noqa: E402
-from plot_paper import plot_energy, plot_low_point, save  # noqa: E402
+from plot_paper import figure_options, plot_energy, plot_low_point, save  # noqa: E402
 
 
 def snapshot_times(run_dir):
@@ -72,13 +72,8 @@ def plot_cut_and_contact(run_dir, out, name, title):
     save(fig, out, name)
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--results", default="results")
-    p.add_argument("--out", default="results/figures")
-    a = p.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    ball = os.path.join(a.results, "ball")
+def main(argv=None):
+    a, ball = figure_options(argv, __doc__, "ball", "ball")
     h1 = read_run(ball)
     lowest = "(0, 0, 0)"
     plot_low_point([("ball, mid-point + active set", h1)], None, a.out, "ball_fig1_low_point", "Test 1 in 3D", "u3",
@@ -93,7 +88,8 @@ def main():
         plot_low_point(runs, None, a.out, "ball_fig5_low_point", "Test 2 in 3D", "u3", lowest)
         plot_energy(runs, None, a.out, "ball_fig6_energy", "Test 2 in 3D")
     print(f"ball figures written to {a.out}/")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

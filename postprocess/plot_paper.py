@@ -9,6 +9,7 @@ import argparse
 import glob
 import os
 import re
+import sys
 
 import matplotlib
 
@@ -16,6 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import jobs  # noqa: E402
 from history import read_csv, read_freefem_mesh, read_run  # noqa: E402
 
 
@@ -98,15 +100,27 @@ def plot_foundation(run_dir, out, name):
     save(fig, out, name)
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--results", default="results")
-    p.add_argument("--reference", default=None)
-    p.add_argument("--out", default="results/figures")
-    a = p.parse_args()
+def figure_options(argv, doc, run, target, reference=False):
+    """The options of a figure script (--results, --out, --reference if asked) and RESULTS/run, the run it
+    draws first: a bad option is one `error:` line and exit 2, results without that run's history.csv one
+    line naming it and exit 3 (before --out is created)."""
+    p = jobs.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--results", default="results", type=jobs.path, help=f"the runs of make {target} (default results)")
+    if reference:
+        p.add_argument("--reference", type=jobs.path, help="the GetFEM reference of Test 1 (a CSV), if it exists")
+    p.add_argument("--out", default="results/figures", type=jobs.path, help="the figures (default results/figures)")
+    a = p.parse_args(argv)
+    run_dir = os.path.join(a.results, run)
+    if not os.path.isfile(os.path.join(run_dir, "history.csv")):
+        print(f"error: {p.prog}: {run_dir} has no history.csv: run make {target} first", file=sys.stderr)
+        sys.exit(3)
     os.makedirs(a.out, exist_ok=True)
+    return a, run_dir
+
+
+def main(argv=None):
+    a, test1 = figure_options(argv, __doc__, "test1", "test1 test2", reference=True)
     ref = read_csv(a.reference) if a.reference and os.path.exists(a.reference) else None
-    test1 = os.path.join(a.results, "test1")
     h1 = read_run(test1)
     plot_low_point([("Test 1, mid-point + IPOPT", h1)], ref, a.out, "fig1_test1_low_point", "Test 1")
     plot_energy([("Test 1, mid-point + IPOPT", h1)], ref, a.out, "fig2_test1_energy", "Test 1")
@@ -122,7 +136,8 @@ def main():
         plot_von_mises(dirs2[0], a.out, "fig7_test2_von_mises",
                        f"Test 2 (t1 = {dirs2[0].rsplit('_', 1)[1]}): von Mises stress at the first bounce")
     print(f"figures written to {a.out}/")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,14 +1,18 @@
-"""postprocess/animate.py: the animation of a run from its run.pvd (issue 24), on a tiny run."""
+"""postprocess/animate.py: the animation of a run from its run.pvd (issue 24), on a tiny run, and the
+3D view (a side view of the section X2 = 0) on a short ball run."""
 import os
 import shutil
 import subprocess
 
+import matplotlib.lines
 import meshio
+import numpy as np
 import pytest
 from PIL import Image
 
+import animate as animate_module
 from conftest import ROOT, files_of, make, run_scene
-from animate import colour_scale, draw, load_frames, series
+from animate import Refused, body_3d, colour_scale, draw, load_frames, main, series
 
 ANIMATE = [os.path.join(ROOT, "postprocess", "animate.py")]
 PYTHON = "/usr/bin/python3"
@@ -20,6 +24,15 @@ def tiny_run(tmp_path_factory):
     """Test 1 to T = 2 with a snapshot every 0.5: five times in run.pvd, each with a foundation."""
     out = tmp_path_factory.mktemp("animation") / "run"
     run_scene("test1", out, ["-T", "2", "-snapshots", "every:0.5", "-progress", "0"])
+    return str(out)
+
+
+@pytest.fixture(scope="module")
+def ball_run(tmp_path_factory):
+    """The ball (Test 1 in 3D) to T = 12 with a snapshot every 4: it falls from 4 above the foundation
+    X3 = 0 and touches it at t = 8.9 (t = 12 is in the impact)."""
+    out = tmp_path_factory.mktemp("animation3d") / "ball"
+    run_scene("ball", out, ["-T", "12", "-solver", "activeset", "-snapshots", "every:4", "-progress", "0"])
     return str(out)
 
 
@@ -170,3 +183,142 @@ def test_make_animation(tiny_run, tmp_path):
         p = make(args)
         assert p.returncode == 2 and p.stdout == ""
         assert len(p.stderr.splitlines()) == 1 and "make animation needs OUT=DIR" in p.stderr
+
+
+def polygon_area(p):
+    x, y = np.asarray(p).T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def test_3d_section(ball_run):
+    """A 3D frame is the ball's section by the plane X2 = 0, seen along X2, at the deformed position: at
+    t = 0 a disk of radius 20 (to the mesh's facets) from X3 = 4 to 44, each piece coloured by its
+    tetrahedron's von Mises (the colour scale's top is the section's largest), its outline on the disk's
+    circle; the foundation X3 = 0 is its section,
+    a polyline in increasing X1 under the ball."""
+    frames = load_frames(ball_run)
+    assert [f["t"] for f in frames] == [0, 4, 8, 12] and {f["dim"] for f in frames} == {3}
+    f = frames[0]
+    assert f["xy"][:, 1].min() == pytest.approx(4, abs=1e-9) and f["xy"][:, 1].max() == pytest.approx(44, abs=0.1)
+    assert f["xy"][:, 0].min() == pytest.approx(-20, abs=0.1) and f["xy"][:, 0].max() == pytest.approx(20, abs=0.1)
+    assert sum(polygon_area(p) for p in f["polys"]) == pytest.approx(np.pi * 20 ** 2, rel=0.02)
+    assert len(f["vonmises"]) == len(f["polys"])
+    tets = meshio.vtu.read(os.path.join(ball_run, "vonmises_t0.vtu")).cell_data_dict["vonmises"]["tetra"]
+    assert set(f["vonmises"]) <= set(tets.ravel())
+    assert colour_scale(frames)[1] == max(f["vonmises"].max() for f in frames)      # the section's largest
+    radius = np.hypot(f["segments"][..., 0], f["segments"][..., 1] - 24)
+    assert radius.max() == pytest.approx(20, abs=1e-5) and radius.min() > 19.5     # the facets of the sphere
+    for f in frames:
+        fx, fz = f["foundation"].T
+        assert np.all(np.diff(fx) > 0) and np.all(fz == 0) and fx[0] < -20 and fx[-1] > 20
+
+
+def test_3d_frames_show_the_fall_and_impact(ball_run):
+    """Drawn, the ball's lowest point moves down the frame as it falls (X3 = 4 at t = 0) until it reaches
+    the foundation's line (X3 = 0 at t = 12, in the impact); the foundation is one line, horizontal and
+    at the same height in every frame, and the axes are the same in every frame."""
+    frames = load_frames(ball_run)
+    fig, frame = draw(frames)
+    ax = fig.axes[0]
+    lowest, foundation, limits = [], [], set()
+    for k in range(len(frames)):
+        frame(k)
+        fig.canvas.draw()
+        body = np.vstack([ax.transData.transform(p.vertices) for p in ax.collections[0].get_paths()])
+        lowest.append(body[:, 1].min())       # display pixels, upwards
+        lines = [a for a in ax.get_children() if isinstance(a, matplotlib.lines.Line2D)]
+        assert len(lines) == 1
+        foundation.append(ax.transData.transform(lines[0].get_xydata()))
+        limits.add((ax.get_xlim(), ax.get_ylim()))
+    assert len(limits) == 1
+    (x0, x1), (y0, y1) = limits.pop()
+    assert x0 < -20 and x1 > 20 and y0 < 0 and y1 > 44
+    scale = ax.transData.transform((0, 1))[1] - ax.transData.transform((0, 0))[1]     # pixels a unit of X3
+    ground = foundation[0][:, 1]
+    assert all(np.ptp(g[:, 1]) < 1e-6 and g[0, 1] == pytest.approx(ground[0]) for g in foundation)
+    assert lowest[0] - ground[0] == pytest.approx(4 * scale, rel=1e-6)
+    assert lowest[0] > lowest[1] > lowest[2] > lowest[3]
+    assert abs(lowest[3] - ground[0]) < 0.1 * scale
+
+
+def test_3d_animation(ball_run, tmp_path):
+    """The GIF of a 3D run has one frame per time, and the body's lowest coloured pixel (saturated: the
+    body, not the grey ground, the black lines or the white background) is lower in the impact's frame
+    than at t = 0, by the 4 units of the fall."""
+    run = copy_run(ball_run, tmp_path)
+    p = animate(run)
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    rows = []
+    with Image.open(run / "animation.gif") as im:
+        assert im.n_frames == 4
+        for k in (0, 3):
+            im.seek(k)
+            rgb = np.asarray(im.convert("RGB")).astype(int)
+            body = rgb.max(axis=2) - rgb.min(axis=2) > 60
+            body[int(0.85 * rgb.shape[0]):] = False         # not the colour bar
+            rows.append(np.flatnonzero(body.any(axis=1)).max())
+    frames = load_frames(run)
+    fig, _ = draw(frames)
+    ax = fig.axes[0]
+    scale = (ax.transData.transform((0, 1))[1] - ax.transData.transform((0, 0))[1]) * DPI / fig.dpi
+    assert rows[1] - rows[0] == pytest.approx(4 * scale, abs=2)
+
+
+def test_3d_plane_misses_the_body(ball_run):
+    """A 3D body that the plane X2 = 0 does not cut is refused (exit 3) with a line naming the plane."""
+    m = meshio.vtu.read(os.path.join(ball_run, "vonmises_t0.vtu"))
+    m.points[:, 1] += 50
+    with pytest.raises(Refused, match="X2 = 0") as err:
+        body_3d(m, "vonmises_t0.vtu")
+    assert err.value.status == 3
+
+
+BAD_OPTIONS = [["--dpi", "100000"], ["--dpi", "3000"], ["--dpi", "301"], ["--dpi", "9"], ["--dpi", "1e3"],
+               ["--dpi", "x"], ["--dpi"], ["--fps", "0"], ["--fps", "51"], ["--fps", "-1"], ["--fps", "2.5"],
+               ["--vmax", "inf"], ["--vmax", "-inf"], ["--vmax", "nan"], ["--vmax", "0"], ["--vmax", "-1"],
+               ["--vmax", "1e309"], ["--vmax", "x"], ["--out", ""], ["--run", ""], ["--bogus"]]
+
+
+@pytest.fixture(scope="module")
+def animated_run(tiny_run, tmp_path_factory):
+    """A copy of the tiny run with its animation.gif."""
+    run = copy_run(tiny_run, tmp_path_factory.mktemp("animated"))
+    assert animate(run).returncode == 0
+    return run
+
+
+@pytest.mark.parametrize("bad", BAD_OPTIONS, ids=" ".join)
+def test_bad_option(animated_run, tmp_path, bad):
+    """Every option is bounded (--dpi 10 to 300, --fps 1 to 50, --vmax positive and finite, paths not
+    empty): anything else is refused with exit 2 and one `error:` line naming the option, and the
+    earlier animation stays byte-identical."""
+    run = copy_run(animated_run, tmp_path)
+    before = files_of(run)
+    p = animate(run, *bad)
+    assert refused(p, 2) and p.stdout == "", p.stderr
+    assert bad[0] in p.stderr or "unrecognized" in p.stderr
+    assert files_of(run) == before
+
+
+def test_too_many_pixels(tiny_run, tmp_path, monkeypatch, capsys):
+    """Frames whose pixels in all exceed MAX_PIXELS (the GIF's frames are held in memory) are refused
+    before rendering: exit 3, one `error:` line naming the sizes, the earlier animation kept."""
+    run = copy_run(tiny_run, tmp_path)
+    assert main(["--run", str(run), "--dpi", str(DPI)]) == 0
+    before = files_of(run)
+    capsys.readouterr()
+    monkeypatch.setattr(animate_module, "MAX_PIXELS", 5 * (5 * DPI) ** 2)     # 5 frames of 200 x ~208 px
+    assert main(["--run", str(run), "--dpi", str(DPI)]) == 3
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.splitlines()) == 1 and err.startswith("error: 5 frames of 200 x ")
+    assert files_of(run) == before
+
+
+def test_out_is_a_directory(tiny_run, tmp_path):
+    """An --out that is a directory is refused before rendering (exit 7, one line), leaving nothing."""
+    run = copy_run(tiny_run, tmp_path)
+    (run / "a.gif").mkdir()
+    before = files_of(run / "a.gif")
+    p = animate(run, "--out", str(run / "a.gif"))
+    assert refused(p, 7) and "is a directory" in p.stderr and "frame" not in p.stdout, p.stderr
+    assert files_of(run / "a.gif") == before and not [f for f in os.listdir(run) if ".part" in f]
