@@ -314,6 +314,17 @@ def test_nan_foundation_during_the_run_stops_it(tmp_path):
     assert (h["step"] == np.arange(6)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
 
 
+def user_foundation_run(tmp_path, earlier_run, psi, dpsi, text, args):
+    """A scene with -foundation user (psi, dpsi, and the lines text) run into a copy of the earlier run; args
+    ["-mesh", "square"]: on a square on X1 in [36, 46], Gamma_C its bottom. Returns refused_into_copy's answer."""
+    if "square" in args:
+        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
+        args = ["-mesh", str(msh), "-reference", "auto"]
+    scene = write_scene(tmp_path, "userpsi", f'foundation = "user";\n{text}'
+                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) {dpsi} // EOM\n")
+    return refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+
+
 WRITTEN_NOT_FINITE = "; a foundation must be finite wherever the suite writes it"
 
 
@@ -339,12 +350,7 @@ def test_user_foundation_not_finite_where_it_is_written_is_refused(tmp_path, ear
     foundation.csv's points, the foundation_t*.vtu under the body where it starts, the boundary vertices
     outside Gamma_C. Each is refused before the first step: exit 3, one line naming psi, the point and t,
     and the earlier run untouched."""
-    if "square" in args:
-        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
-        args = ["-mesh", str(msh), "-reference", "auto"]
-    scene = write_scene(tmp_path, "written", f'foundation = "user";\nT = 1;\n{text}'
-                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) 0 // EOM\n")
-    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+    p, changed = user_foundation_run(tmp_path, earlier_run, psi, "0", "T = 1;\n" + text, args)
     assert p.returncode == 3 and error_lines(p) == [message], p.stderr
     assert not changed
 
@@ -385,12 +391,7 @@ def test_user_foundation_not_finite_where_the_body_goes_stops_the_run(tmp_path):
      "error: userFoundationDpsi is not the derivative of userFoundationPsi: at X1 = "),
 ], ids=["t-dependent-fixed", "periodic-in-t-fixed", "dpsi-wrong-under-gamma-c"])
 def test_user_foundation_checked_where_and_when_it_is_used(tmp_path, earlier_run, psi, dpsi, args, message):
-    if "square" in args:
-        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
-        args = ["-mesh", str(msh), "-reference", "auto"]
-    scene = write_scene(tmp_path, "userpsi", f'foundation = "user";\nT = 2;\nsnapshots = "none";\n'
-                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) {dpsi} // EOM\n")
-    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+    p, changed = user_foundation_run(tmp_path, earlier_run, psi, dpsi, 'T = 2;\nsnapshots = "none";\n', args)
     assert p.returncode == 3 and len(error_lines(p)) == 1 and error_lines(p)[0].startswith(message), p.stderr
     if "square" in psi or "-mesh" in args:
         assert float(error_lines(p)[0][len(message):].split(",")[0]) >= 36     # under Gamma_C, not on [-30, 30]
