@@ -331,6 +331,33 @@ def test_3d_refusals_are_one_line_and_change_nothing(tmp_path, earlier_ball, arg
     assert files_of(out) == before
 
 
+@pytest.mark.parametrize("psi,message", [
+    # the issue's example: finite over Gamma_C's extent widened by a quarter (|X1| <= 26), NaN beyond |X1| = 27:
+    # foundation.csv (X1 in [-30, 30], X2 = 0) had 24 -nan rows and every foundation_t*.vtu NaN coordinates, exit 0
+    ("sqrt(27 - abs(X1))", "error: userFoundationPsi3 is not finite at (X1, X2) = (-30, 0), t = 0, where foundation.csv "
+                           "draws it (X1 in [-30, 30]): it gives -nan"),
+    # NaN beyond |X2| = 27 only: not on foundation.csv's line X2 = 0, but on the foundation_t*.vtu surface under the ball
+    ("sqrt(27 - abs(X2))", "error: userFoundationPsi3 is not finite at (X1, X2) = (-29.966, -29.966), t = 0, where "
+                           "foundation_t0.vtu would draw it under the body where it is at t = 0 (its horizontal extent "
+                           "widened by a quarter on each side): it gives -nan"),
+], ids=["foundation.csv", "foundation vtu"])
+def test_a_scene_surface_not_finite_where_it_is_written_is_refused(tmp_path, earlier_ball, psi, message):
+    """Issue 32: a scene's psi(X1, X2, t) must be finite wherever the suite writes it, not only over the region
+    Gamma_C sweeps: refused before the first step, exit 3, one line naming psi and the point, the earlier run
+    byte-identical."""
+    scene = tmp_path / "nan3.idp"
+    scene.write_text(BUMP.replace("DPSI2", "0").replace("(-1 + 1.5 * exp(-((X1 - 4)^2 + X2^2) / 50))", f"(-1 + 0 * {psi})")
+                     .replace("(-0.06 * (X1 - 4) * exp(-((X1 - 4)^2 + X2^2) / 50))", "0")
+                     .replace('snapshots = "none";', 'snapshots = "0,0.5";'))
+    out = tmp_path / "copy"
+    shutil.copytree(earlier_ball, out)
+    before = files_of(out)
+    p = run_scene(str(scene), out, ["-T", "1", "-progress", "0"], check=False)
+    assert p.returncode == 3 and error_lines(p) == [message + "; a foundation must be finite wherever the suite writes it"], \
+        p.stderr
+    assert files_of(out) == before
+
+
 def test_3d_restart_continues_the_same_history(tmp_path):
     """A 3D run restarted from its checkpoint gives the uninterrupted history, bit for bit."""
     args = ["-T", "10", "-solver", "activeset", "-checkpoint_every", "100"] + QUIET

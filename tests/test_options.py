@@ -314,6 +314,69 @@ def test_nan_foundation_during_the_run_stops_it(tmp_path):
     assert (h["step"] == np.arange(6)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
 
 
+def user_foundation_run(tmp_path, earlier_run, psi, dpsi, text, args):
+    """A scene with -foundation user (psi, dpsi, and the lines text) run into a copy of the earlier run; args
+    ["-mesh", "square"]: on a square on X1 in [36, 46], Gamma_C its bottom. Returns refused_into_copy's answer."""
+    if "square" in args:
+        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
+        args = ["-mesh", str(msh), "-reference", "auto"]
+    scene = write_scene(tmp_path, "userpsi", f'foundation = "user";\n{text}'
+                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) {dpsi} // EOM\n")
+    return refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+
+
+WRITTEN_NOT_FINITE = "; a foundation must be finite wherever the suite writes it"
+
+
+@pytest.mark.parametrize("psi,text,args,message", [
+    # issue 32: NaN at t = 0.25 beyond X1 = 25 only, off the boundary and off t = 0, T/2, T: foundation.csv
+    # had 10 -nan rows, exit 0
+    ("((t > 0.2 && t < 0.3 && X1 > 25) ? sqrt(-1.) : -2.)", 'snapshots = "0.25";\nfoundationMoving = 1;\n', [],
+     "error: userFoundationPsi is not finite at X1 = 25.5, t = 0.25, where foundation.csv draws it (X1 in [-30, 30]): "
+     "it gives -nan" + WRITTEN_NOT_FINITE),
+    # NaN beyond X1 = 47, under a body on X1 in [36, 46]: its foundation_t*.vtu (the extent widened by a quarter,
+    # [33.5, 48.5]) had NaN coordinates, exit 0
+    ("(X1 > 47 ? sqrt(-1.) : -2.)", 'snapshots = "0,1";\n', ["-mesh", "square"],
+     "error: userFoundationPsi is not finite at X1 = 47.0625, t = 0, where foundation_t0.vtu would draw it under the body "
+     "where it is at t = 0 (its horizontal extent widened by a quarter on each side): it gives -nan" + WRITTEN_NOT_FINITE),
+    # NaN at t = 0.3 beyond X1 = 18, off Gamma_C (|X1| <= 17.3) but under the disk's other boundary vertices,
+    # watched for max_penetration_outside (the NaN was skipped there, silently, exit 0)
+    ("((t > 0.3 && t < 0.4 && X1 > 18) ? sqrt(-1.) : -2.)", 'snapshots = "none";\nfoundationMoving = 1;\n', [],
+     "error: the foundation is not finite at t = 0.3: at X1 = 18.4776 (a boundary vertex outside Gamma_C, watched for "
+     "max_penetration_outside) psi = -nan, psi' = 0"),
+], ids=["foundation.csv", "foundation vtu", "outside gamma-c"])
+def test_user_foundation_not_finite_where_it_is_written_is_refused(tmp_path, earlier_run, psi, text, args, message):
+    """Issue 32: psi is checked not only where (10) uses it but wherever the suite writes or watches it:
+    foundation.csv's points, the foundation_t*.vtu under the body where it starts, the boundary vertices
+    outside Gamma_C. Each is refused before the first step: exit 3, one line naming psi, the point and t,
+    and the earlier run untouched."""
+    p, changed = user_foundation_run(tmp_path, earlier_run, psi, "0", "T = 1;\n" + text, args)
+    assert p.returncode == 3 and error_lines(p) == [message], p.stderr
+    assert not changed
+
+
+def test_user_foundation_not_finite_where_the_body_goes_stops_the_run(tmp_path):
+    """Issue 32: psi NaN beyond X1 = 31, finite on [-30, 30], under Gamma_C and under the disk where it starts;
+    the disk moves 4 to the right by t = 1, and the foundation_t*.vtu under it reaches X1 = 34. The snapshot
+    that would draw a NaN stops the run (exit 4) before any of its files is written: the run's files hold
+    finite values only, the earlier snapshots stay, and history.csv keeps every step up to that one."""
+    scene = write_scene(tmp_path, "beyond", 'foundation = "user";\nT = 1;\n'
+                        "macro userFoundationPsi(X1, t) (X1 > 31 ? sqrt(-1.) : -2.) // EOM\n"
+                        "macro userFoundationDpsi(X1, t) 0 // EOM\n")
+    out = tmp_path / "out"
+    p = run_scene(scene, out, ["-progress", "0", "-v0x", "4", "-snapshots", "0,0.5,1"], check=False)
+    assert p.returncode == 4 and error_lines(p) == [
+        "error: userFoundationPsi is not finite at X1 = 31.25, t = 0.5, where foundation_t0.5.vtu draws it under the body "
+        "(its horizontal extent widened by a quarter on each side): it gives -nan" + WRITTEN_NOT_FINITE
+        + "; history.csv keeps every step up to this one"], p.stderr
+    assert sorted(f for f in os.listdir(out) if "_t" in f) == ["foundation_t0.vtu", "snapshot_t0.csv", "vonmises_t0.vtu"]
+    assert "t0.5" not in (out / "run.pvd").read_text() and not (out / "summary.txt").exists()
+    h = read_run(str(out))
+    assert (h["step"] == np.arange(11)).all() and np.isfinite(np.column_stack(list(h.values()))).all()
+    for f in ("foundation.csv", "foundation_t0.vtu", "snapshot_t0.csv"):
+        assert "nan" not in (out / f).read_text().lower() and "inf" not in (out / f).read_text().lower()
+
+
 @pytest.mark.parametrize("psi,dpsi,args,message", [
     # issue 19, case 4: psi depends on t, the scene does not say it moves (the disk rested at -2 while
     # the foundation went to -12)
@@ -328,12 +391,7 @@ def test_nan_foundation_during_the_run_stops_it(tmp_path):
      "error: userFoundationDpsi is not the derivative of userFoundationPsi: at X1 = "),
 ], ids=["t-dependent-fixed", "periodic-in-t-fixed", "dpsi-wrong-under-gamma-c"])
 def test_user_foundation_checked_where_and_when_it_is_used(tmp_path, earlier_run, psi, dpsi, args, message):
-    if "square" in args:
-        msh = square_mesh(tmp_path / "square.msh", "Physical Curve(1)={1};Physical Curve(2)={2,3,4};", x0=36, side=10, size=2)
-        args = ["-mesh", str(msh), "-reference", "auto"]
-    scene = write_scene(tmp_path, "userpsi", f'foundation = "user";\nT = 2;\nsnapshots = "none";\n'
-                        f"macro userFoundationPsi(X1, t) {psi} // EOM\nmacro userFoundationDpsi(X1, t) {dpsi} // EOM\n")
-    p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"] + args)
+    p, changed = user_foundation_run(tmp_path, earlier_run, psi, dpsi, 'T = 2;\nsnapshots = "none";\n', args)
     assert p.returncode == 3 and len(error_lines(p)) == 1 and error_lines(p)[0].startswith(message), p.stderr
     if "square" in psi or "-mesh" in args:
         assert float(error_lines(p)[0][len(message):].split(",")[0]) >= 36     # under Gamma_C, not on [-30, 30]

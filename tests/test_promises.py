@@ -316,3 +316,27 @@ def test_a_history_column_that_overflows_stops_the_run(tmp_path):
     assert errors[0].startswith("error: step 5 (t = 0.25) gave a non-finite value in history.csv's columns (the largest strain inf")
     h = read_csv(os.path.join(out, "history.csv"))
     assert list(h["step"]) == [0, 1, 2, 3, 4] and np.isfinite(np.column_stack(list(h.values()))).all()
+
+
+@pytest.mark.parametrize("step", [0, 5])
+def test_a_snapshot_value_that_is_not_finite_stops_the_run_before_it_is_written(tmp_path, earlier_run, step):
+    """Issue 32: every value a snapshot writes (displacement, von Mises and the largest strain per cell and
+    per vertex, the contact pressure, the foundation under the body) is checked finite before any of its
+    files is written (test hook: a NaN von Mises stress in the snapshot of that step). At t = 0 the run is
+    refused (exit 3, the earlier run byte-identical); later it stops (exit 4) with the earlier snapshots
+    and every history row up to that step, all finite."""
+    args = ["-T", "0.5", "-snapshots", "0,0.25,0.5", "-progress", "0"]
+    env = {"CONTACT_TEST_NAN_SNAPSHOT": str(step)}
+    t = "0" if step == 0 else "0.25"
+    message = f"error: the snapshot at t = {t} has a non-finite von Mises stress (-nan at its entry 0); none of its files is written"
+    if step == 0:
+        p, changed = refused_into_copy(tmp_path, earlier_run, "test1", args, env=env)
+        assert p.returncode == 3 and error_lines(p) == [message], p.stderr
+        assert not changed
+        return
+    out = tmp_path / "out"
+    p = run_scene("test1", out, args, check=False, env=env)
+    assert p.returncode == 4 and error_lines(p) == [message + "; history.csv keeps every step up to this one"], p.stderr
+    assert sorted(f for f in os.listdir(out) if "_t" in f) == ["foundation_t0.vtu", "snapshot_t0.csv", "vonmises_t0.vtu"]
+    h = read_csv(os.path.join(out, "history.csv"))
+    assert list(h["step"]) == [0, 1, 2, 3, 4, 5] and np.isfinite(np.column_stack(list(h.values()))).all()
