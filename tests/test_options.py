@@ -536,6 +536,64 @@ def test_study_script_with_a_bad_jobs_is_one_line(tmp_path, script, jobs):
     assert (tmp_path / "summary.md").read_text() == "an earlier run's summary\n"
 
 
+# a study's files that its start removes (jobs.stop_on_interrupt's stale globs), as an earlier run left them
+EARLIER_STUDY_FILES = {"summary.md": "an earlier run's summary\n", "hertz.csv": "case,v0\nslow,0.1\n", "fig.png": "PNG\n"}
+
+
+def earlier_study(directory):
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, text in EARLIER_STUDY_FILES.items():
+        (directory / name).write_text(text)
+    return files_of(directory)
+
+
+@pytest.mark.parametrize("target", ["accuracy", "stress", "svk", "methods", "csm3", "hertz"])
+@pytest.mark.parametrize("np_", ["0", "2000", "two", "1 2"])
+def test_make_study_with_a_bad_np_is_one_line_naming_np_and_keeps_results(tmp_path, target, np_):
+    """Issue 32: make hertz NP=2000 removed summary.md, hertz.csv and the figures before the first run refused
+    -np 2000, and NP=0 was told "--np: must be a positive integer (runs at a time)". NP is now checked by make
+    like JOBS, before anything is built or removed: one line naming NP as processes per run, exit 2, and the
+    study's earlier files byte-identical."""
+    results = tmp_path / "results"
+    before = earlier_study(results / target)
+    p = make([target, f"NP={np_}", f"RESULTS={results}"])
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and p.stdout == "", (p.stdout, p.stderr)
+    assert f"NP must be a whole number of processes per run from 1 to 1024 (edp/run.sh -np N), got '{np_}'" in lines[0]
+    assert files_of(results / target) == before
+
+
+STUDY_SCRIPTS = ["accuracy.py", "stress.py", "svk_compare.py", "methods.py", "csm3.py", "hertz.py"]
+
+
+@pytest.mark.parametrize("script", STUDY_SCRIPTS)
+@pytest.mark.parametrize("np_", ["0", "2000", "00002"])
+def test_study_script_with_a_bad_np_is_one_line_and_keeps_results(tmp_path, script, np_):
+    """The scripts refuse an --np that edp/run.sh -np would refuse (1 to 1024, at most 4 digits) with one line
+    naming --np as processes per run, exit 2, before they remove their earlier results (byte-identical)."""
+    before = earlier_study(tmp_path)
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--np", np_],
+                       cwd=ROOT, capture_output=True, text=True)
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0] == (f"error: {script}: argument --np: must be a whole number of processes per run from 1 to 1024 "
+                        f"(edp/run.sh -np), got '{np_}'")
+    assert files_of(tmp_path) == before
+
+
+@pytest.mark.parametrize("script", STUDY_SCRIPTS)
+def test_study_script_with_np_but_no_mpirun_is_one_line_and_keeps_results(tmp_path, script):
+    """--np N needs what edp/run.sh -np needs (mpirun, FreeFem++-mpi, ffddm): without mpirun on PATH the script
+    says so in one line, exit 2, before it removes its earlier results."""
+    before = earlier_study(tmp_path)
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--np", "2"],
+                       cwd=ROOT, capture_output=True, text=True, env=dict(os.environ, PATH=str(tmp_path / "nothing")))
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0].startswith(f"error: {script}: argument --np: 2 processes per run need mpirun"), lines[0]
+    assert files_of(tmp_path) == before
+
+
 def test_unwritable_output_directory(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
