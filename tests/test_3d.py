@@ -308,6 +308,10 @@ REFUSED = [
     (["-reference", "0,0"], "-reference must be one x,y,z triple on a 3D body (or auto), got 2 numbers"),
     (["-probes", "0,0,50"], "-probes (0, 0, 50) is outside the body"),
     (["-u0z", "-1"], "the initial state penetrates the foundation by 1 at the vertex"),
+    # a clamped ball: the line names u0z and v0z, which move it (issue 32: it named only u0x, u0y, v0x, v0y, spin)
+    (["-dirichlet_label", "2"], "the initial state moves the clamped boundary Gamma_D (label 2): -u0z is 4; with Gamma_D, "
+                                "-u0x, -u0y, -u0z, -v0x, -v0y, -v0z and -spin must be 0"),
+    (["-dirichlet_label", "2", "-u0z", "0", "-v0z", "0.5"], "Gamma_D (label 2): -v0z is 0.5; with Gamma_D"),
 ]
 
 
