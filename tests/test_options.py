@@ -77,8 +77,15 @@ BAD = [
     # every number finite and sensible
     (["-dt", "nan"], "-dt must be a number, got 'nan'"),
     (["-dt", "-inf"], "-dt must be a number, got '-inf'"),
-    (["-dt", "1e400"], "-dt must be a finite number of magnitude at most 1e+30, got 1e400"),
-    (["-T", "1e400"], "-T must be a finite number of magnitude at most 1e+30, got 1e400"),
+    # issue 32: a number that C's strtod turns into inf or 0 is named as such, not as the value it became
+    (["-dt", "1e400"], "-dt 1e400 overflows double precision (its largest number is 1.8e+308): -dt must be a finite number "
+                       "of magnitude at most 1e+30"),
+    (["-T", "1e400"], "-T 1e400 overflows double precision"),
+    (["-dt", "1e-400"], "-dt 1e-400 underflows to 0 in double precision (its smallest positive number is 4.9e-324): give 0, "
+                        "or a number of magnitude at least 1e-300"),
+    (["-contact", "penalty", "-penalty_eps", "1e-400"], "-penalty_eps 1e-400 underflows to 0 in double precision"),
+    (["-fy", "-1E-999"], "-fy -1E-999 underflows to 0"),
+    (["-probes", "0,1e-400"], "-probes 1e-400 underflows to 0"),
     (["-lambda", "1e400"], "-lambda must be a finite number"),
     (["-mu", "1e300"], "-mu must be a finite number of magnitude at most 1e+30"),
     (["-dt", "1e-300"], "-T 2 with -dt 1e-300 is 2e+300 steps, more than -max_steps 10000000"),
@@ -102,7 +109,8 @@ BAD = [
     (["-snapshots", "every:-0.5"], "-snapshots every:D needs a spacing D > 0, got 'every:-0.5'"),
     (["-snapshots", "every:"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:'"),
     (["-snapshots", "every:x"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:x'"),
-    (["-snapshots", "every:1e400"], "-snapshots must be a finite number of magnitude at most 1e+30, got 1e400"),
+    (["-snapshots", "every:1e400"], "-snapshots 1e400 overflows double precision"),
+    (["-snapshots", "every:1e-400"], "-snapshots 1e-400 underflows to 0"),
     # the body must not start inside the foundation
     (["-level", "100"], "the initial state penetrates the foundation by 96 at the vertex (0, 0)"),
     (["-u0y", "-5"], "the initial state penetrates the foundation by 5 at the vertex (0, 0)"),
