@@ -344,3 +344,15 @@ def test_3d_restart_continues_the_same_history(tmp_path):
     straight = tmp_path / "straight"
     run_scene("ball", straight, ["-T", "12"] + args[2:])
     assert open(first / "history.csv").read() == open(straight / "history.csv").read()
+
+
+def test_3d_restart_on_another_mesh_names_its_tetrahedra(tmp_path, earlier_ball):
+    """A 3D restart on another mesh is refused naming the cells as tetrahedra (it said "triangles"), and the
+    run it would continue stays byte-identical."""
+    before = files_of(earlier_ball)
+    p = run_scene("ball", tmp_path / "out", ["-restart", earlier_ball, "-mesh", os.path.join(ROOT, "meshes", "hertz_coarse.msh"),
+                                             "-T", "1", "-progress", "0"], check=False)
+    assert p.returncode == 3 and error_lines(p) == [
+        f"error: -restart {earlier_ball}: its checkpoint is for a mesh with 667 vertices and 2674 tetrahedra; -mesh "
+        f"{ROOT}/meshes/hertz_coarse.msh has 534 and 2215"], p.stderr
+    assert files_of(earlier_ball) == before and not (tmp_path / "out").exists()

@@ -182,10 +182,20 @@ def test_scene_error_names_the_scene_file_and_line(tmp_path, earlier_run, text, 
 
 @pytest.mark.parametrize("text,message", [
     ('include "nope.idp"\n', "line 1: Error opening file nope.idp in:"),
-    ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene)"),
-    ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene)"),
-    ('checkpointEvery = 0;\n', "-checkpoint_every must be an integer in [1, 1000000000] (from the scene), got 0"),
-], ids=["include", "nan", "huge", "integer"])
+    ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene's line "
+                          "`fy = sqrt(-1.);`)"),
+    ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene's line `v0x = 1e40;`)"),
+    ('checkpointEvery = 0;\n', "-checkpoint_every must be an integer in [1, 1000000000], got 0 (from the scene's line "
+                               "`checkpointEvery = 0;`)"),
+    # issue 32: a literal that FreeFEM turns into another value is named as typed and as what it became
+    ('  dt = 1e-400;  // tiny\n', "-dt 1e-400 underflows to 0 in double precision (the scene's line `dt = 1e-400;`; its "
+                                "smallest positive number is 4.9e-324): give 0, or a number of magnitude at least 1e-300"),
+    ('mu = 1e400;\n', "-mu must be a finite number of magnitude at most 1e+30, got inf (from the scene's line `mu = 1e400;`)"),
+    ('checkpointEvery = 99999999999999999999;\n', "-checkpoint_every must be an integer in [1, 1000000000], got -1 (from the "
+                                                  "scene's line `checkpointEvery = 99999999999999999999;`)"),
+    ('maxSteps = 1e20;\n', "-max_steps must be an integer in [1, 1000000000], got -9223372036854775808 (from the scene's line "
+                           "`maxSteps = 1e20;`)"),
+], ids=["include", "nan", "huge", "integer", "underflow", "overflow", "integer literal overflow", "integer conversion"])
 def test_scene_that_includes_a_missing_file_or_sets_a_value_out_of_range(tmp_path, earlier_run, text, message):
     scene = write_scene(tmp_path, "bad", text)
     p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
