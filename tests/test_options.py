@@ -565,7 +565,7 @@ def earlier_study(directory):
     return files_of(directory)
 
 
-@pytest.mark.parametrize("target", ["accuracy", "stress", "svk", "methods", "csm3", "hertz"])
+@pytest.mark.parametrize("target", ["run", "accuracy", "stress", "svk", "methods", "csm3", "hertz"])
 @pytest.mark.parametrize("np_", ["0", "2000", "two", "1 2"])
 def test_make_study_with_a_bad_np_is_one_line_naming_np_and_keeps_results(tmp_path, target, np_):
     """Issue 32: make hertz NP=2000 removed summary.md, hertz.csv and the figures before the first run refused
@@ -574,7 +574,7 @@ def test_make_study_with_a_bad_np_is_one_line_naming_np_and_keeps_results(tmp_pa
     study's earlier files byte-identical."""
     results = tmp_path / "results"
     before = earlier_study(results / target)
-    p = make([target, f"NP={np_}", f"RESULTS={results}"])
+    p = make([target, f"NP={np_}", f"RESULTS={results}", f"OUT={results / target}"])     # (OUT: make run's)
     lines = p.stderr.splitlines()
     assert p.returncode == 2 and len(lines) == 1 and p.stdout == "", (p.stdout, p.stderr)
     assert f"NP must be a whole number of processes per run from 1 to 1024 (edp/run.sh -np N), got '{np_}'" in lines[0]
