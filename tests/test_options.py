@@ -95,6 +95,9 @@ BAD = [
     (["-T", "1e12"], "-T 1e+12 with -dt 0.05 is 2e+13 steps, more than -max_steps 10000000"),
     (["-ipopt_max_iter", "4294967297"], "-ipopt_max_iter must be an integer in [1, 100000000], got '4294967297'"),
     (["-checkpoint_every", "99999999999999999999"], "-checkpoint_every must be an integer in [1, 1000000000]"),
+    # a whole number in range with a point or an exponent: its form is what is wrong
+    (["-max_steps", "1e3"], "-max_steps must be an integer in [1, 1000000000] written in decimal digits, got '1e3'"),
+    (["-checkpoint_every", "10.0"], "-checkpoint_every must be an integer in [1, 1000000000] written in decimal digits"),
     (["-probes", "1e400,0"], "-probes must be a finite number"),
     # the time grid: T a whole number of steps, snapshot times on it
     (["-dt", "0.07", "-T", "1"], "-T 1 is not a whole number of steps of -dt 0.07 (14.2857 steps): use -T 0.98 or -T 1.05"),
