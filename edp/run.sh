@@ -167,9 +167,7 @@ for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
   if [ "${args[i]}" = -mesh ]; then case "${args[i + 1]}" in /*) mesh_file=${args[i + 1]} ;; *) mesh_file=$PWD/${args[i + 1]} ;; esac; fi
 done
 dimension=2
-# (MSH 2.2: in $Elements, each line is number, type, ...; types 4 and 11 are tetrahedra)
-[ -r "$mesh_file" ] && awk '/^\$Elements/ { on = 1; getline; next } /^\$EndElements/ { exit } on && ($2 == 4 || $2 == 11) { found = 1; exit }
-                           END { exit !found }' "$mesh_file" 2>/dev/null && dimension=3
+[ -r "$mesh_file" ] && awk -f "$here/lib/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
 # as an integer (02 is 2); not one: 0, and the driver refuses -order itself
 if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 fe=P1

@@ -47,7 +47,6 @@ Writes results/accuracy/table.csv, table.md, orders.md, svk.md, nh.md, work_prec
 p2.md, p2_table.csv, p2_work_precision.png/pdf (--p2-only: the P2 part alone), methods.md,
 methods_table.csv, methods_work_precision.png/pdf (--methods-only: that part alone).
 """
-import argparse
 import csv
 import os
 import re
@@ -563,7 +562,7 @@ def in_grid(mesh, solver, dt):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__)
+    p = jobs.ArgumentParser(description=__doc__)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "accuracy"))
     p.add_argument("--quick", action="store_true", help="a small grid, to try the script")
     p.add_argument("--reuse", action="store_true",

@@ -11,9 +11,9 @@ or in parallel, and stopped whole by Ctrl-C.
   terminal would, then SIGKILL after 5 s), drops the queued runs, prints one line and exits 130.
 - `run_parallel(fn, items, jobs)`: fn(item) for each item, `jobs` at a time, results in the order
   they finish (a generator); an exception of fn stops the queue and is raised.
-- `ArgumentParser` and `positive_int`, for the targets' --jobs: a bad argument is one line on stderr
-  (`error: methods.py: argument --jobs: must be a positive integer, got '0'`) and exit 2, before the
-  target removes anything (before, --jobs 0 removed the earlier summary and ended in a traceback).
+- `ArgumentParser` and `positive_int`, for the targets' --jobs, and `add_processes_option` for their
+  --np: a bad argument is one line on stderr (`error: methods.py: argument --jobs: must be a positive
+  integer (runs at a time), got '0'`) and exit 2, before the target removes anything.
   `path`: an argument that names a file or directory, not empty.
 """
 import argparse
@@ -21,6 +21,7 @@ import concurrent.futures
 import glob
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -102,9 +103,30 @@ def _run(cmd, **kwargs):
 processes = 0
 
 
+NP_MOST = 1024          # edp/run.sh's -np: 1 to 1024
+# what edp/run.sh -np needs, and how it names it
+NP_TOOLS = "(FreeFEM's MPI build with Open MPI; Debian: apt-get install freefem++ openmpi-bin)"
+FFDDM = "/usr/include/freefem++/idp/ffddm.idp"
+
+
+def process_count(text):
+    """argparse type of --np (processes of each run): what edp/run.sh -np takes (1 to 1024, in at most 4 decimal
+    digits) and needs (mpirun, FreeFem++-mpi, ffddm), checked before the target removes anything."""
+    if not re.fullmatch(r"[0-9]{1,4}", text) or not 1 <= int(text) <= NP_MOST:
+        raise argparse.ArgumentTypeError(f"must be a whole number of processes per run from 1 to {NP_MOST} "
+                                         f"(edp/run.sh -np), got '{text}'")
+    for tool in ("mpirun", "FreeFem++-mpi"):
+        if shutil.which(tool) is None:
+            raise argparse.ArgumentTypeError(f"{text} processes per run need {tool} {NP_TOOLS}")
+    if not os.access(FFDDM, os.R_OK):
+        raise argparse.ArgumentTypeError(f"{text} processes per run need FreeFEM's ffddm ({FFDDM}; Debian: apt-get "
+                                         "install libfreefem++-dev)")
+    return int(text)
+
+
 def add_processes_option(parser):
     """The targets' --np N (make TARGET NP=N)."""
-    parser.add_argument("--np", type=positive_int, default=0, metavar="N",
+    parser.add_argument("--np", type=process_count, default=0, metavar="N",
                         help="processes of each run (edp/run.sh -np N; runs that -np refuses run on one process)")
 
 

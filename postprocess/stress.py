@@ -36,7 +36,6 @@ Writes results/stress/summary.md (one row per case; --nh-only: the Neo-Hookean c
 alone, into summary_neohookean.md). `FAST` is the subset that `make check` runs, on
 shorter horizons.
 """
-import argparse
 import os
 import re
 import sys
@@ -254,7 +253,7 @@ def outcome(m, failures):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__)
+    p = jobs.ArgumentParser(description=__doc__)
     p.add_argument("--out", default=os.path.join(ROOT, "results", "stress"))
     p.add_argument("--fast", action="store_true", help="only the make check subset")
     p.add_argument("--methods-only", action="store_true",

@@ -308,6 +308,10 @@ REFUSED = [
     (["-reference", "0,0"], "-reference must be one x,y,z triple on a 3D body (or auto), got 2 numbers"),
     (["-probes", "0,0,50"], "-probes (0, 0, 50) is outside the body"),
     (["-u0z", "-1"], "the initial state penetrates the foundation by 1 at the vertex"),
+    # a clamped ball: the line names u0z and v0z, which move it (issue 32: it named only u0x, u0y, v0x, v0y, spin)
+    (["-dirichlet_label", "2"], "the initial state moves the clamped boundary Gamma_D (label 2): -u0z is 4; with Gamma_D, "
+                                "-u0x, -u0y, -u0z, -v0x, -v0y, -v0z and -spin must be 0"),
+    (["-dirichlet_label", "2", "-u0z", "0", "-v0z", "0.5"], "Gamma_D (label 2): -v0z is 0.5; with Gamma_D"),
 ]
 
 
@@ -367,3 +371,15 @@ def test_3d_restart_continues_the_same_history(tmp_path):
     straight = tmp_path / "straight"
     run_scene("ball", straight, ["-T", "12"] + args[2:])
     assert open(first / "history.csv").read() == open(straight / "history.csv").read()
+
+
+def test_3d_restart_on_another_mesh_names_its_tetrahedra(tmp_path, earlier_ball):
+    """A 3D restart on another mesh is refused naming the cells as tetrahedra (it said "triangles"), and the
+    run it would continue stays byte-identical."""
+    before = files_of(earlier_ball)
+    p = run_scene("ball", tmp_path / "out", ["-restart", earlier_ball, "-mesh", os.path.join(ROOT, "meshes", "hertz_coarse.msh"),
+                                             "-T", "1", "-progress", "0"], check=False)
+    assert p.returncode == 3 and error_lines(p) == [
+        f"error: -restart {earlier_ball}: its checkpoint is for a mesh with 667 vertices and 2674 tetrahedra; -mesh "
+        f"{ROOT}/meshes/hertz_coarse.msh has 534 and 2215"], p.stderr
+    assert files_of(earlier_ball) == before and not (tmp_path / "out").exists()

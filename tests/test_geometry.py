@@ -222,7 +222,9 @@ BAD_GEOMETRY = {
     "order 3": ("test1", ["-order", "3"], "-order must be an integer in [1, 2], got '3'"),
     "no such contact label": ("test1", ["-contact_label", "7", "-foundation", "none"],
                               "has no boundary edge with label 7 (Gamma_C, -contact_label); its labels are 1 2"),
-    "moving clamp": ("cantilever", ["-u0y", "1"], "the initial state moves the clamped boundary Gamma_D"),
+    # names what moves it, and only the plane options
+    "moving clamp": ("cantilever", ["-u0y", "1", "-spin", "0.1"], "the initial state moves the clamped boundary Gamma_D "
+                     "(label 3): -u0y is 1, -spin is 0.1; with Gamma_D, -u0x, -u0y, -v0x, -v0y and -spin must be 0"),
 }
 
 

@@ -6,7 +6,7 @@ import subprocess
 
 import pytest
 
-from conftest import ROOT, refused_into_copy, square_mesh
+from conftest import ROOT, refused_into_copy, run_scene, square_mesh
 from mesh_counts import msh22_counts
 
 PAPER_MESH = os.path.join(ROOT, "meshes", "disk.msh")
@@ -175,4 +175,113 @@ def test_mesh_without_physical_groups_says_so(tmp_path, earlier_run):
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(errors) == 1, p.stderr
     assert "is a geometric point in no physical group" in errors[0] and "add Physical Surface" in errors[0], errors[0]
+    assert not changed
+
+
+# ---- issue 32: what a mesh error names in 3D, and a scene's meshFile that edp/run.sh cannot read
+BALL_GEO = os.path.join(ROOT, "meshes", "ball.geo")
+
+
+def gmsh_file(tmp_path, name, args, geo=BALL_GEO):
+    """gmsh ARGS of geo (coarse) into tmp_path/name; returns its path."""
+    out = tmp_path / name
+    subprocess.run(["gmsh"] + args + ["-setnumber", "refine", "0.3", geo, "-o", str(out)], check=True, capture_output=True)
+    return out
+
+
+@pytest.mark.parametrize("args,hint", [
+    (["-3", "-format", "msh41"], "MSH version 4.1, not 2.2 (write it with gmsh -3 -format msh22)"),
+    (["-2", "-format", "msh41"], "MSH version 4.1, not 2.2 (write it with gmsh -3 -format msh22)"),   # its volume unmeshed
+    (["-3", "-format", "msh41", "-bin"], "binary MSH version 4.1, not 2.2 (write it with gmsh -format msh22 and without -bin: "
+                                         "gmsh -2 for a plane body, -3 for a volume)"),
+], ids=["3d", "3d geometry meshed -2", "3d binary"])
+def test_msh41_of_a_volume_is_told_gmsh_3(tmp_path, earlier_run, args, hint):
+    """A MSH 4.1 file of a geometry with volumes ($Entities counts them) is told to write it with gmsh -3:
+    the hint was gmsh -2, which gives a surface mesh. A binary one, whose $Entities is not read, is told both."""
+    msh = gmsh_file(tmp_path, "ball41.msh", args)
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh), "-T", "1"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and errors == [f"error: -mesh {msh}: {hint}"], p.stderr
+    assert not changed
+
+
+def test_msh41_of_a_plane_body_is_told_gmsh_2(tmp_path, earlier_run):
+    msh = gmsh_file(tmp_path, "disk41.msh", ["-2", "-format", "msh41"], geo=os.path.join(ROOT, "meshes", "disk.geo"))
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh), "-T", "1"])
+    assert p.returncode == 3 and p.stderr.strip() == f"error: -mesh {msh}: MSH version 4.1, not 2.2 (write it with gmsh -2 " \
+                                                     "-format msh22)", p.stderr
+    assert not changed
+
+
+def ball_with_node(tmp_path, physical=None):
+    """The coarse ball (MSH 2.2) with an extra node at (100, 100, 100) in no tetrahedron, as a point element of
+    that physical group when physical is given (0: a point saved without Physical groups)."""
+    lines = open(gmsh_file(tmp_path, "ball.msh", ["-3", "-format", "msh22"])).read().splitlines()
+    k = lines.index("$Nodes") + 1
+    n = int(lines[k])
+    lines[k] = str(n + 1)
+    lines.insert(k + 1 + n, f"{n + 1} 100 100 100")
+    if physical is not None:
+        e = lines.index("$Elements") + 1
+        m = int(lines[e])
+        lines[e] = str(m + 1)
+        lines.insert(e + 1 + m, f"{m + 1} 15 2 {physical} 5 {n + 1}")
+    out = tmp_path / "ball_node.msh"
+    out.write_text("\n".join(lines) + "\n")
+    return out, n + 1
+
+
+@pytest.mark.parametrize("physical,message", [
+    (None, "(at 100, 100, 100) is in no tetrahedron: an orphan node"),
+    (5, "(at 100, 100, 100) of the point element {m} (a gmsh Physical Point) is in no tetrahedron"),
+    (0, "(at 100, 100, 100) is a geometric point in no physical group (element {m}, e.g. an arc's centre) and in no "
+        "tetrahedron: the .geo defines no Physical groups, so gmsh saved every entity; add Physical Volume and Physical "
+        "Surface lines to it"),
+], ids=["orphan", "physical point", "no physical groups"])
+def test_3d_node_in_no_tetrahedron_is_named_in_3d(tmp_path, physical, message):
+    """A node of a 3D mesh in no tetrahedron is named with its three coordinates, as in no tetrahedron, and a .geo
+    without Physical groups is told to add a Physical Volume (it was told "in no triangle", "Physical Curve")."""
+    msh, node = ball_with_node(tmp_path, physical)
+    elements = open(msh).read().split("$Elements\n")[1].split("\n")[0]
+    p = run_scene("ball", tmp_path / "out", ["-mesh", str(msh), "-T", "0.1"], check=False)
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert errors[0].startswith(f"error: -mesh {msh}: node {node} " + message.format(m=elements)), errors[0]
+    assert not (tmp_path / "out").exists()
+
+
+MESHFILE_UNREAD = {
+    "one line with another statement": 'T = 0.1; meshFile = "meshes/ball.msh";\n',
+    "through a variable": 'string m = "meshes/ball.msh";\nmeshFile = m;\nT = 0.1;\n',
+    "concatenated": 'meshFile = "meshes/" + "ball.msh";\nT = 0.1;\n',
+}
+
+
+@pytest.mark.parametrize("form", list(MESHFILE_UNREAD))
+def test_scene_meshfile_that_run_sh_cannot_read_is_named(tmp_path, earlier_run, form):
+    """Issue 32: a scene that sets meshFile in a form edp/run.sh cannot read (it reads a line `meshFile = "...";`)
+    had its 3D mesh loaded by a driver compiled for a plane body, and was told "element 841 has type 4; only
+    points, lines and triangles are supported". The driver compares the mesh it loads with the dimension it was
+    compiled for and says why, as for -order and -material."""
+    scene = tmp_path / "ball_meshfile.idp"
+    scene.write_text(MESHFILE_UNREAD[form] + 'snapshots = "none";\nfy = 0;\nfz = -0.1;\nu0y = 0;\nu0z = 4;\n')
+    p, changed = refused_into_copy(tmp_path, earlier_run, str(scene), ["-progress", "0"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and errors == [
+        "error: -mesh meshes/ball.msh has volume elements (a 3D body), but meshFile is set in a way edp/run.sh cannot "
+        "read before FreeFEM compiles the driver, which it compiled for a plane body; write it in the scene as a line "
+        '`meshFile = "meshes/ball.msh";`, or give -mesh on the command line'], p.stderr
+    assert not changed
+
+
+def test_scene_meshfile_read_as_3d_but_set_plane_is_named(tmp_path, earlier_run):
+    """The other way: run.sh reads the scene's line `meshFile = "meshes/ball.msh";` (3D), and a later statement sets
+    the disk; it was told "no tetrahedra (element type 4): mesh the Volume with gmsh -3"."""
+    scene = tmp_path / "disk_meshfile.idp"
+    scene.write_text('meshFile = "meshes/ball.msh";\nmeshFile = "meshes/" + "disk.msh";\nT = 0.1;\nsnapshots = "none";\n')
+    p, changed = refused_into_copy(tmp_path, earlier_run, str(scene), ["-progress", "0"])
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert errors[0].startswith("error: -mesh meshes/disk.msh has no volume elements (a plane body), but meshFile is set "
+                                "in a way edp/run.sh cannot read") and "compiled for a 3D body" in errors[0], errors[0]
     assert not changed

@@ -77,8 +77,15 @@ BAD = [
     # every number finite and sensible
     (["-dt", "nan"], "-dt must be a number, got 'nan'"),
     (["-dt", "-inf"], "-dt must be a number, got '-inf'"),
-    (["-dt", "1e400"], "-dt must be a finite number of magnitude at most 1e+30, got 1e400"),
-    (["-T", "1e400"], "-T must be a finite number of magnitude at most 1e+30, got 1e400"),
+    # issue 32: a number that C's strtod turns into inf or 0 is named as such, not as the value it became
+    (["-dt", "1e400"], "-dt 1e400 overflows double precision (its largest number is 1.8e+308): -dt must be a finite number "
+                       "of magnitude at most 1e+30"),
+    (["-T", "1e400"], "-T 1e400 overflows double precision"),
+    (["-dt", "1e-400"], "-dt 1e-400 underflows to 0 in double precision (its smallest positive number is 4.9e-324): give 0, "
+                        "or a number of magnitude at least 1e-300"),
+    (["-contact", "penalty", "-penalty_eps", "1e-400"], "-penalty_eps 1e-400 underflows to 0 in double precision"),
+    (["-fy", "-1E-999"], "-fy -1E-999 underflows to 0"),
+    (["-probes", "0,1e-400"], "-probes 1e-400 underflows to 0"),
     (["-lambda", "1e400"], "-lambda must be a finite number"),
     (["-mu", "1e300"], "-mu must be a finite number of magnitude at most 1e+30"),
     (["-dt", "1e-300"], "-T 2 with -dt 1e-300 is 2e+300 steps, more than -max_steps 10000000"),
@@ -88,6 +95,9 @@ BAD = [
     (["-T", "1e12"], "-T 1e+12 with -dt 0.05 is 2e+13 steps, more than -max_steps 10000000"),
     (["-ipopt_max_iter", "4294967297"], "-ipopt_max_iter must be an integer in [1, 100000000], got '4294967297'"),
     (["-checkpoint_every", "99999999999999999999"], "-checkpoint_every must be an integer in [1, 1000000000]"),
+    # a whole number in range with a point or an exponent: its form is what is wrong
+    (["-max_steps", "1e3"], "-max_steps must be an integer in [1, 1000000000] written in decimal digits, got '1e3'"),
+    (["-checkpoint_every", "10.0"], "-checkpoint_every must be an integer in [1, 1000000000] written in decimal digits"),
     (["-probes", "1e400,0"], "-probes must be a finite number"),
     # the time grid: T a whole number of steps, snapshot times on it
     (["-dt", "0.07", "-T", "1"], "-T 1 is not a whole number of steps of -dt 0.07 (14.2857 steps): use -T 0.98 or -T 1.05"),
@@ -102,7 +112,8 @@ BAD = [
     (["-snapshots", "every:-0.5"], "-snapshots every:D needs a spacing D > 0, got 'every:-0.5'"),
     (["-snapshots", "every:"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:'"),
     (["-snapshots", "every:x"], "-snapshots every:D needs a number D (the spacing of the times), got 'every:x'"),
-    (["-snapshots", "every:1e400"], "-snapshots must be a finite number of magnitude at most 1e+30, got 1e400"),
+    (["-snapshots", "every:1e400"], "-snapshots 1e400 overflows double precision"),
+    (["-snapshots", "every:1e-400"], "-snapshots 1e-400 underflows to 0"),
     # the body must not start inside the foundation
     (["-level", "100"], "the initial state penetrates the foundation by 96 at the vertex (0, 0)"),
     (["-u0y", "-5"], "the initial state penetrates the foundation by 5 at the vertex (0, 0)"),
@@ -174,10 +185,20 @@ def test_scene_error_names_the_scene_file_and_line(tmp_path, earlier_run, text, 
 
 @pytest.mark.parametrize("text,message", [
     ('include "nope.idp"\n', "line 1: Error opening file nope.idp in:"),
-    ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene)"),
-    ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene)"),
-    ('checkpointEvery = 0;\n', "-checkpoint_every must be an integer in [1, 1000000000] (from the scene), got 0"),
-], ids=["include", "nan", "huge", "integer"])
+    ('fy = sqrt(-1.);\n', "-fy must be a finite number of magnitude at most 1e+30, got -nan (from the scene's line "
+                          "`fy = sqrt(-1.);`)"),
+    ('v0x = 1e40;\n', "-v0x must be a finite number of magnitude at most 1e+30, got 1e+40 (from the scene's line `v0x = 1e40;`)"),
+    ('checkpointEvery = 0;\n', "-checkpoint_every must be an integer in [1, 1000000000], got 0 (from the scene's line "
+                               "`checkpointEvery = 0;`)"),
+    # issue 32: a literal that FreeFEM turns into another value is named as typed and as what it became
+    ('  dt = 1e-400;  // tiny\n', "-dt 1e-400 underflows to 0 in double precision (the scene's line `dt = 1e-400;`; its "
+                                "smallest positive number is 4.9e-324): give 0, or a number of magnitude at least 1e-300"),
+    ('mu = 1e400;\n', "-mu must be a finite number of magnitude at most 1e+30, got inf (from the scene's line `mu = 1e400;`)"),
+    ('checkpointEvery = 99999999999999999999;\n', "-checkpoint_every must be an integer in [1, 1000000000], got -1 (from the "
+                                                  "scene's line `checkpointEvery = 99999999999999999999;`)"),
+    ('maxSteps = 1e20;\n', "-max_steps must be an integer in [1, 1000000000], got -9223372036854775808 (from the scene's line "
+                           "`maxSteps = 1e20;`)"),
+], ids=["include", "nan", "huge", "integer", "underflow", "overflow", "integer literal overflow", "integer conversion"])
 def test_scene_that_includes_a_missing_file_or_sets_a_value_out_of_range(tmp_path, earlier_run, text, message):
     scene = write_scene(tmp_path, "bad", text)
     p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
@@ -592,6 +613,64 @@ def test_study_script_with_a_bad_jobs_is_one_line(tmp_path, script, jobs):
     assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
     assert lines[0] == f"error: {script}: argument --jobs: must be a positive integer (runs at a time), got '{jobs}'"
     assert (tmp_path / "summary.md").read_text() == "an earlier run's summary\n"
+
+
+# a study's files that its start removes (jobs.stop_on_interrupt's stale globs), as an earlier run left them
+EARLIER_STUDY_FILES = {"summary.md": "an earlier run's summary\n", "hertz.csv": "case,v0\nslow,0.1\n", "fig.png": "PNG\n"}
+
+
+def earlier_study(directory):
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, text in EARLIER_STUDY_FILES.items():
+        (directory / name).write_text(text)
+    return files_of(directory)
+
+
+@pytest.mark.parametrize("target", ["run", "accuracy", "stress", "svk", "methods", "csm3", "hertz"])
+@pytest.mark.parametrize("np_", ["0", "2000", "two", "1 2"])
+def test_make_study_with_a_bad_np_is_one_line_naming_np_and_keeps_results(tmp_path, target, np_):
+    """Issue 32: make hertz NP=2000 removed summary.md, hertz.csv and the figures before the first run refused
+    -np 2000, and NP=0 was told "--np: must be a positive integer (runs at a time)". NP is now checked by make
+    like JOBS, before anything is built or removed: one line naming NP as processes per run, exit 2, and the
+    study's earlier files byte-identical."""
+    results = tmp_path / "results"
+    before = earlier_study(results / target)
+    p = make([target, f"NP={np_}", f"RESULTS={results}", f"OUT={results / target}"])     # (OUT: make run's)
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and p.stdout == "", (p.stdout, p.stderr)
+    assert f"NP must be a whole number of processes per run from 1 to 1024 (edp/run.sh -np N), got '{np_}'" in lines[0]
+    assert files_of(results / target) == before
+
+
+STUDY_SCRIPTS = ["accuracy.py", "stress.py", "svk_compare.py", "methods.py", "csm3.py", "hertz.py"]
+
+
+@pytest.mark.parametrize("script", STUDY_SCRIPTS)
+@pytest.mark.parametrize("np_", ["0", "2000", "00002"])
+def test_study_script_with_a_bad_np_is_one_line_and_keeps_results(tmp_path, script, np_):
+    """The scripts refuse an --np that edp/run.sh -np would refuse (1 to 1024, at most 4 digits) with one line
+    naming --np as processes per run, exit 2, before they remove their earlier results (byte-identical)."""
+    before = earlier_study(tmp_path)
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--np", np_],
+                       cwd=ROOT, capture_output=True, text=True)
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0] == (f"error: {script}: argument --np: must be a whole number of processes per run from 1 to 1024 "
+                        f"(edp/run.sh -np), got '{np_}'")
+    assert files_of(tmp_path) == before
+
+
+@pytest.mark.parametrize("script", STUDY_SCRIPTS)
+def test_study_script_with_np_but_no_mpirun_is_one_line_and_keeps_results(tmp_path, script):
+    """--np N needs what edp/run.sh -np needs (mpirun, FreeFem++-mpi, ffddm): without mpirun on PATH the script
+    says so in one line, exit 2, before it removes its earlier results."""
+    before = earlier_study(tmp_path)
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", script), "--out", str(tmp_path), "--np", "2"],
+                       cwd=ROOT, capture_output=True, text=True, env=dict(os.environ, PATH=str(tmp_path / "nothing")))
+    lines = p.stderr.splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "Traceback" not in p.stderr, p.stderr
+    assert lines[0].startswith(f"error: {script}: argument --np: 2 processes per run need mpirun"), lines[0]
+    assert files_of(tmp_path) == before
 
 
 def test_unwritable_output_directory(tmp_path):

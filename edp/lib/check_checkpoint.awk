@@ -1,7 +1,8 @@
 # check_checkpoint.awk -- check a checkpoint.txt whole before FreeFEM reads it
 # (FreeFEM aborts without a useful message on a malformed number).
-# usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M \
+# usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M -v cells=C -v nodes=D \
 #            -f numbers.awk -f check_checkpoint.awk FILE
+#   (C, D: how the messages name the mesh's cells and nodes: triangles or tetrahedra, vertices or nodes)
 # Format (output.idp, writeCheckpoint): one header line
 #   checkpoint 6 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
 #                TOPOLOGY PARAMETERS_CHECKSUM DATA_CHECKSUM MAXPEN_OUTSIDE
@@ -24,8 +25,8 @@ NR == 1 {
   if ($3 != scene) fail("it is a run of scene " $3 ", not " scene)
   if (!isint($4) || $4 + 0 < 1) fail("checkpoint.txt has no valid step ('" $4 "')")
   for (i = 5; i <= 28; i++) if (!isfinite($i)) fail("checkpoint.txt header field " i " is not a finite number ('" $i "')")
-  if ($8 != nv || $9 != nt) fail("its checkpoint is for a mesh with " $8 " vertices and " $9 " triangles; -mesh " mesh " has " nv " and " nt)
-  if ($11 != ndof || $12 != ncontact) fail("checkpoint.txt is for " $11 " unknowns and " $12 " contact vertices, this mesh has " ndof " and " ncontact)
+  if ($8 != nv || $9 != nt) fail("its checkpoint is for a mesh with " $8 " vertices and " $9 " " cells "; -mesh " mesh " has " nv " and " nt)
+  if ($11 != ndof || $12 != ncontact) fail("checkpoint.txt is for " $11 " unknowns and " $12 " contact " nodes ", this mesh has " ndof " and " ncontact)
   step = $4; part = 0; expect = -1; next
 }
 {

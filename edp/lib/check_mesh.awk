@@ -21,6 +21,10 @@ section == "format" {
   if ($0 == "$EndMeshFormat") { if (!version) fail("$MeshFormat is empty"); section = ""; next }
   if (version) fail("$MeshFormat has more than one line")
   version = $1
+  # (gmsh's option of the body's dimension: -3 when edp/run.sh found volumes (mesh_volumes.awk, which reads an ASCII
+  # file's $Entities); a binary file's are not read)
+  if ($1 != "2.2" && dimension == 3) fail("MSH version " $1 ", not 2.2 (write it with gmsh -3 -format msh22" ($2 == "0" ? "" : ", without -bin") ")")
+  if ($1 != "2.2" && $2 != "0") fail("binary MSH version " $1 ", not 2.2 (write it with gmsh -format msh22 and without -bin: gmsh -2 for a plane body, -3 for a volume)")
   if ($1 != "2.2") fail("MSH version " $1 ", not 2.2 (write it with gmsh -2 -format msh22)")
   if ($2 != "0") fail("binary MSH 2.2; FreeFEM's gmshload reads ASCII only (write it without -bin)")
   next
@@ -113,9 +117,11 @@ END {
   cell = (dimension == 3) ? "tetrahedron" : "triangle"
   if (dimension != 3 && zmax - zmin > 1e-9 * size)
     fail("its nodes span z from " zmin " to " zmax ", not one plane, and it has no tetrahedra: a plane body needs its nodes in one plane (gmsh -2 of a plane geometry), a 3D body a Volume meshed into tetrahedra (gmsh -3)")
+  groups = (dimension == 3) ? "Physical Volume and Physical Surface" : "Physical Surface and Physical Curve"
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
-    if ((k in pointElement) && pointPhysical[k] == 0) fail("node " k " (at " X[k] ", " Y[k] ") is a geometric point in no physical group (element " pointElement[k] ", e.g. an arc's centre) and in no triangle: the .geo defines no Physical groups, so gmsh saved every entity; add Physical Surface and Physical Curve lines to it")
-    if (k in pointElement) fail("node " k " (at " X[k] ", " Y[k] ") of the point element " pointElement[k] " (a gmsh Physical Point) is in no " cell ": the point is off the body; move it onto the body or remove it")
-    fail("node " k " (at " X[k] ", " Y[k] ") is in no " cell ": an orphan node, which would make the system singular; remove it from the mesh")
+    at = "(at " X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")"
+    if ((k in pointElement) && pointPhysical[k] == 0) fail("node " k " " at " is a geometric point in no physical group (element " pointElement[k] ", e.g. an arc's centre) and in no " cell ": the .geo defines no Physical groups, so gmsh saved every entity; add " groups " lines to it")
+    if (k in pointElement) fail("node " k " " at " of the point element " pointElement[k] " (a gmsh Physical Point) is in no " cell ": the point is off the body; move it onto the body or remove it")
+    fail("node " k " " at " is in no " cell ": an orphan node, which would make the system singular; remove it from the mesh")
   }
 }
