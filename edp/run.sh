@@ -16,7 +16,8 @@
 #     files into OUT over the earlier run's, and the run goes on in OUT.
 # Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug),
 # 2 usage, 3 refused before the first step, 4 a step failed, 5 factorisation,
-# 7 a write failed.
+# 7 a write failed; 128 + N after signal N (SIGTERM, SIGINT, SIGHUP: run.sh stops
+# FreeFEM first, then dies of the signal; one sent to FreeFEM itself is named).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -88,7 +89,11 @@ out=$(cd "$out" && pwd -P)
 stage=$out/.staging
 lock_holder() { head -c 200 "$1/.lock" 2>/dev/null | tr -d '\n'; }
 { exec 9>>"$out/.lock"; } 2>/dev/null || err "output directory $out cannot be written"
-flock -n 9 || err "$out is in use by another run ($(lock_holder "$out")); wait for it to end or stop it"
+if ! flock -n 9; then
+  holder=$(lock_holder "$out")
+  [ -n "$holder" ] || err "$out is in use by another run that is starting or ending (it has not named itself); try again in a moment"
+  err "$out is in use by another run ($holder); wait for it to end or stop it"
+fi
 # the lock must be the file that is there now (a refused run may just have removed a directory it created)
 [ "$(stat -L -c %d:%i /dev/fd/9)" = "$(stat -c %d:%i "$out/.lock" 2>/dev/null)" ] ||
   err "$out is being created or removed by another run; try again"
@@ -97,7 +102,7 @@ errfile=$(mktemp 2>/dev/null) || err "cannot create a temporary file (is /tmp fu
 cleanup() {
   local committed=0
   [ -e "$stage/.committed" ] && committed=1
-  rm -f "$errfile" "$errfile.stop"
+  rm -f "$errfile" "$errfile.stop" "$errfile.pid" "$errfile.status"
   rm -rf "$stage"
   if [ $committed = 1 ] || [ "$created" = 0 ]; then
     : > "$out/.lock"
@@ -107,6 +112,10 @@ cleanup() {
   fi
 }
 trap cleanup EXIT
+# SIGTERM, SIGINT or SIGHUP: before FreeFEM starts, run.sh cleans up and dies of the signal (128 + its number);
+# once it runs, FreeFEM is stopped first (below)
+die_of() { cleanup; trap - EXIT "$1"; kill -s "$1" $$; }
+for sig in TERM INT HUP; do trap "die_of $sig" $sig; done
 printf 'pid %s, started %s: run.sh %s %s' "$$" "$(date '+%Y-%m-%d %H:%M:%S')" "$scene" "$out_arg" > "$out/.lock" ||
   err "cannot write into $out (disk full?)" 7
 [ -z "$stale" ] || echo "note: $out was left by a run that was killed ($stale); taking it over"
@@ -237,14 +246,16 @@ raw=/dev/null
 # waiting in MPI for ever (FreeFEM's exit waits in MPI_Finalize): once the filter has seen one of those lines
 # (it writes $errfile.stop), the others get 5 s to end too, then mpirun is stopped, and the status is the one
 # the process gave (docs/parallel.md).
+# The pid of FreeFEM (or mpirun) goes into $errfile.pid, for run.sh to pass a signal on.
 run_freefem() {
   if [ -z "$np" ]; then
-    (cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}")
-    return
+    (cd "$stage" && exec FreeFem++-nw -nw -ns -v 0 "$here/contact.edp" "${args[@]}") &
+  else
+    (cd "$stage" && exec mpirun --oversubscribe --tag-output -np "$np" FreeFem++-mpi -nw -ns -v 0 "$here/contact.edp" "${args[@]}") &
   fi
-  (cd "$stage" && exec mpirun --oversubscribe --tag-output -np "$np" FreeFem++-mpi -nw -ns -v 0 "$here/contact.edp" "${args[@]}") &
   local job=$! since=""
-  while kill -0 $job 2>/dev/null; do
+  echo $job > "$errfile.pid"
+  while [ -n "$np" ] && kill -0 $job 2>/dev/null; do
     if [ -e "$errfile.stop" ]; then
       [ -n "$since" ] || since=$SECONDS
       if [ $((SECONDS - since)) -ge 5 ]; then
@@ -263,9 +274,21 @@ run_freefem() {
 # progress line need each line as it comes)
 awk_lines=()
 awk -W version 2>/dev/null | grep -q mawk && awk_lines=(-W interactive)
-# (No exec: the subshell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
+# (run_freefem's shell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
 # (trace: FreeFEM's error traces, and mpirun's report of a process that died; any process's stops a parallel run)
-run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
+# The pipeline runs in the background, so that a signal to run.sh is handled at once (a shell runs its traps only
+# between commands): FreeFEM (or mpirun, which stops every process) is sent SIGTERM, and run.sh waits for it to
+# end (SIGKILL after 10 s), then dies of the signal it was sent, after the clean-up below.
+caught="" stopped_at=""
+stop_freefem() {
+  local pid
+  caught=${caught:-$1}
+  [ -z "$stopped_at" ] && pid=$(cat "$errfile.pid" 2>/dev/null) && [ -n "$pid" ] || return 0
+  kill -TERM "$pid" 2>/dev/null
+  stopped_at=$SECONDS
+}
+for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
+{ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
     -v trace='Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code' \
     -v scene="$scene_file" -v errfile="$errfile" '
   function newline() { if (pending) { printf "\n"; pending = 0 } }
@@ -314,9 +337,31 @@ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ 
           print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
         if (opened != "" && detail == "") detail = "cannot open " opened
         if (detail != "") print detail > errfile }'
-status=("${PIPESTATUS[@]}")
-rc=${status[0]} filter=${status[2]}
+  echo "${PIPESTATUS[@]}" > "$errfile.status"; } &
+pipeline=$!
+while kill -0 $pipeline 2>/dev/null; do
+  if [ -z "$caught" ]; then wait $pipeline; continue; fi     # (a trapped signal ends the wait)
+  stop_freefem "$caught"
+  if [ -n "$stopped_at" ] && [ $((SECONDS - stopped_at)) -ge 10 ] && pid=$(cat "$errfile.pid"); then
+    pkill -KILL -P "$pid" 2>/dev/null
+    kill -KILL "$pid" 2>/dev/null
+  fi
+  sleep 0.2
+done
+wait $pipeline 2>/dev/null
+read -r -a status < "$errfile.status" 2>/dev/null
+rc=${status[0]:-143} filter=${status[2]:-143}
+# A run stopped mid-row (a failed write, a signal) leaves part of a row: history.csv keeps the complete ones.
+keep_complete_rows() {
+  if [ -e "$stage/.committed" ] && [ -s "$out/history.csv" ] && [ -n "$(tail -c 1 "$out/history.csv")" ]; then
+    partial=$(tail -n 1 "$out/history.csv" | wc -c)
+    truncate -s $(($(stat -c %s "$out/history.csv") - partial)) "$out/history.csv"
+  fi
+}
+# run.sh was sent a signal, and FreeFEM has ended: no line of its own (the caller sent it)
+[ -z "$caught" ] || { keep_complete_rows; die_of "$caught"; }
 # -np N: the status a process gave when it stopped (the others may have been stopped for it)
+given=""
 if [ -s "$errfile.stop" ]; then
   given=$(head -n 1 "$errfile.stop")
   case "$given" in
@@ -325,9 +370,28 @@ if [ -s "$errfile.stop" ]; then
   esac
 fi
 rm -f "$errfile.stop"
+# a signal sent to FreeFEM itself (or to mpirun), not to run.sh
+signal_name=""
+if [ -z "$given" ] && [ "$filter" = 0 ]; then
+  case "$rc" in
+    129) signal_name="SIGHUP from outside edp/run.sh" ;; 130) signal_name="SIGINT from outside edp/run.sh" ;;
+    137) signal_name="SIGKILL from outside edp/run.sh (by hand, or by the kernel when memory ran out)" ;;
+    143) signal_name="SIGTERM from outside edp/run.sh" ;;
+  esac
+  # (mpirun itself, sent SIGTERM or SIGINT, stops every process and exits 1 without a word)
+  [ -n "$np" ] && [ "$rc" = 1 ] && [ ! -s "$errfile" ] &&
+    signal_name="a signal to mpirun from outside edp/run.sh (mpirun stopped with status 1 and no process reported an error)"
+fi
 case "$rc" in
   0 | 3 | 4 | 5 | 7) exit_status=$rc ;;
-  *) if [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
+  *) if [ -n "$signal_name" ]; then
+       where="before the run started; $out_arg is unchanged"
+       [ -e "$stage/.committed" ] && where="history.csv keeps every complete step and checkpoint.txt the last checkpoint: edp/run.sh"
+       [ -e "$stage/.committed" ] && where+=" $scene $out_arg -restart $out_arg continues the run"
+       echo "error: FreeFEM was killed by $signal_name; $where" >&2
+       exit_status=$rc
+       [ "$rc" = 1 ] && exit_status=143
+     elif [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
        exit_status=$filter
      else
        detail=$(head -c 300 "$errfile")
@@ -345,10 +409,5 @@ if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summ
        "your own, check that it does not call exit()" >&2
   exit_status=1
 fi
-# A write that failed mid-row leaves part of a row: history.csv keeps the complete ones.
-if [ "$exit_status" = 7 ] && [ -e "$stage/.committed" ] && [ -s "$out/history.csv" ] &&
-   [ -n "$(tail -c 1 "$out/history.csv")" ]; then
-  partial=$(tail -n 1 "$out/history.csv" | wc -c)
-  truncate -s $(($(stat -c %s "$out/history.csv") - partial)) "$out/history.csv"
-fi
+case "$exit_status" in 7 | 129 | 130 | 137 | 143) keep_complete_rows ;; esac
 exit "$exit_status"

@@ -2,7 +2,8 @@
 not start, it prints one line and exits 130, and it leaves no summary that looks current beside
 killed, partial runs (postprocess/jobs.py). Before, `make svk` ran its queued runs for 42 s after
 the interrupt, ended in a Python traceback, and left the previous summary.md and figures.
-Ctrl-C of `make run` and `edp/run.sh` is status 130 too, with OUT as docs/errors.md says."""
+Ctrl-C of `make run` and `edp/run.sh` is status 130 too, with OUT as docs/errors.md says; a signal to
+edp/run.sh alone stops FreeFEM first, and one to FreeFEM itself is reported as such (status 143)."""
 import os
 import re
 import shutil
@@ -136,9 +137,11 @@ def test_ctrl_c_of_make_run_mid_run_is_130_and_leaves_a_restartable_run(tmp_path
         assert np.abs(restarted[column] - whole[column][:401]).max() <= 1e-12, column
 
 
-def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, earlier_run):
-    """Ctrl-C while edp/run.sh still checks its input (here a scene that computes for long): the run dies
-    of SIGINT (status 130) and OUT is untouched: an earlier run byte-identical, a new OUT not created."""
+@pytest.mark.parametrize("how", ["Ctrl-C", "SIGTERM to run.sh"])
+def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, earlier_run, how):
+    """Ctrl-C (SIGINT to the process group), or SIGTERM to edp/run.sh alone, while the run still checks its input
+    (here a scene that computes for long): the run dies of the signal (status 130, 143), FreeFEM is stopped, and
+    OUT is untouched: an earlier run byte-identical, a new OUT not created."""
     scene = tmp_path / "slow.idp"
     scene.write_text('foundation = "flat";\nreal zzSlow = 0;\nfor (int i = 0; i < 100000000; i++) zzSlow += 1;\n')
     earlier = tmp_path / "earlier"
@@ -153,8 +156,13 @@ def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, e
             time.sleep(0.02)
         assert freefem_running(out), "FreeFEM did not start"
         time.sleep(0.5)
-        status, _, err = interrupt(p)
-        assert status in (-signal.SIGINT, 130), (status, err)
+        if how == "Ctrl-C":
+            status, _, err = interrupt(p)
+            assert status in (-signal.SIGINT, 130), (status, err)
+        else:
+            p.send_signal(signal.SIGTERM)
+            _, err = p.communicate(timeout=30)
+            assert p.returncode == -signal.SIGTERM and err == "", (p.returncode, err)
         assert not freefem_running(out)
     assert files_of(earlier) == before and not os.path.exists(earlier / ".staging")
     assert not (tmp_path / "new").exists()
@@ -180,3 +188,104 @@ def test_ctrl_c_of_a_make_study_target_is_130(tmp_path):
     assert len(lines) == 2 and re.fullmatch(r"make: \*\*\* \[Makefile:[0-9]+: methods\] (Error 130|Interrupt)", lines[1]), err
     time.sleep(0.5)
     assert not processes_of(out) and not (out / "summary.md").exists()
+
+
+# ---- a signal to edp/run.sh alone, or to FreeFEM (or mpirun) itself (issue 32: run.sh exited 143 at once and
+# FreeFEM ran on to T, writing history.csv and summary.txt, while the lock was emptied; a new run into OUT was
+# told "in use by another run ()"; SIGTERM to FreeFEM itself was "a bug in the suite", exit 1)
+
+SERIAL = ("test1", ["-T", "20", "-checkpoint_every", "50", "-progress", "0", "-snapshots", "none", "-vtk", "0"], 400)
+PARALLEL = ("ball", ["-np", "2", "-solver", "activeset", "-T", "8", "-checkpoint_every", "50", "-progress", "0",
+                     "-snapshots", "none", "-vtk", "0"], 160)
+
+
+def started(scene, out, args, rows=60):
+    """edp/run.sh SCENE OUT ARGS, in a session of its own, once history.csv holds more than `rows` rows."""
+    p = subprocess.Popen([os.path.join(ROOT, "edp", "run.sh"), scene, str(out)] + args, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, start_new_session=True, env=dict(os.environ, FORCE="1"))
+    deadline = time.time() + 120
+    while history_rows(out / "history.csv") <= rows and time.time() < deadline and p.poll() is None:
+        time.sleep(0.02)
+    assert p.poll() is None, "the run ended before it was stopped"
+    return p
+
+
+def assert_stopped_and_restartable(out, scene, args, steps, extra=()):
+    """No process left in OUT, no summary, the lock released, complete rows up to past the last checkpoint;
+    -restart OUT continues the run to T."""
+    assert not processes_of(out), f"processes left in {out}: {processes_of(out)}"
+    assert not (out / "summary.txt").exists() and not (out / ".staging").exists()
+    assert (out / ".lock").read_text() == ""
+    text = (out / "history.csv").read_text()
+    rows = text.splitlines()[1:]
+    assert text.endswith("\n") and all(len(r.split(",")) == len(rows[0].split(",")) for r in rows)
+    step = int(open(out / "checkpoint.txt").readline().split()[3])
+    assert 50 <= step < len(rows) < steps + 1, (step, len(rows))
+    p = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), scene, str(out), "-restart", str(out)] + list(extra),
+                       capture_output=True, text=True)
+    assert p.returncode == 0 and "killed" not in p.stdout, p.stdout + p.stderr
+    restarted = read_run(str(out))
+    assert (restarted["step"] == np.arange(steps + 1)).all()
+
+
+@pytest.mark.parametrize("sig,run", [(signal.SIGTERM, SERIAL), (signal.SIGINT, SERIAL), (signal.SIGHUP, SERIAL),
+                                     (signal.SIGTERM, PARALLEL)], ids=["TERM", "INT", "HUP", "TERM -np 2"])
+def test_a_signal_to_run_sh_stops_freefem_and_leaves_a_restartable_run(tmp_path, sig, run):
+    """A signal to edp/run.sh alone (not its process group): run.sh passes SIGTERM on to FreeFEM (-np N: to mpirun,
+    which stops every process), waits for it to end, releases the lock and dies of its signal (128 + its number,
+    Python's -N) without a line of its own; OUT keeps complete rows, its last checkpoint and no summary.txt, and
+    -restart OUT continues the run."""
+    scene, args, steps = run
+    out = tmp_path / "out"
+    p = started(scene, out, args)
+    p.send_signal(sig)
+    try:
+        _, err = p.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    assert p.returncode == -sig, (p.returncode, err)
+    assert not [line for line in err.splitlines() if line.startswith("error:")], err
+    assert_stopped_and_restartable(out, scene, args, steps, extra=args[:2] if scene == "ball" else ())
+
+
+@pytest.mark.parametrize("process,run,status,says", [
+    ("FreeFem++-nw", SERIAL, 143, "FreeFEM was killed by SIGTERM from outside edp/run.sh"),
+    ("FreeFem++-mpi", PARALLEL, 143, "FreeFEM was killed by SIGTERM from outside edp/run.sh"),
+    ("mpirun", PARALLEL, 143, "FreeFEM was killed by a signal to mpirun from outside edp/run.sh (mpirun stopped with "
+                              "status 1 and no process reported an error)"),
+], ids=["FreeFem++-nw", "FreeFem++-mpi (a process of -np 2)", "mpirun"])
+def test_a_signal_to_freefem_itself_is_reported_as_a_kill(tmp_path, process, run, status, says):
+    """SIGTERM to FreeFEM (or to a process of -np N, or to mpirun), not to edp/run.sh: status 143 and one line
+    saying so and how to continue (before: exit 1, "a bug in the suite"); OUT as after a signal to run.sh."""
+    scene, args, steps = run
+    out = tmp_path / "out"
+    p = started(scene, out, args)
+    pid = next(pid for pid in processes_of(out) if open(f"/proc/{pid}/comm").read().strip() == process[:15])
+    os.kill(pid, signal.SIGTERM)
+    try:
+        _, err = p.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    lines = [line for line in err.splitlines() if line.startswith("error:")]
+    assert p.returncode == status and len(lines) == 1 and lines[0].startswith(f"error: {says}"), err
+    assert lines[0].endswith(f"; history.csv keeps every complete step and checkpoint.txt the last checkpoint: edp/run.sh "
+                             f"{scene} {out} -restart {out} continues the run"), err
+    assert_stopped_and_restartable(out, scene, args, steps, extra=args[:2] if scene == "ball" else ())
+
+
+def test_a_lock_that_names_no_holder_is_reported_clearly(tmp_path, earlier_run):
+    """A run that holds OUT's lock but has not written its name into it yet (or has just emptied it, ending):
+    a second run is refused with a line that says so, never "in use by another run ()"; OUT is unchanged."""
+    import fcntl
+    out = tmp_path / "out"
+    shutil.copytree(earlier_run, out)
+    before = files_of(out)
+    with open(out / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        p = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), "test1", str(out), "-T", "1"], capture_output=True,
+                           text=True, env=dict(os.environ, FORCE="1"))
+    assert p.returncode == 3 and p.stderr == (f"error: {out} is in use by another run that is starting or ending (it has not "
+                                              "named itself); try again in a moment\n"), p.stderr
+    assert files_of(out) == before

@@ -162,3 +162,16 @@ def test_vtk_0_writes_no_series_and_removes_the_earlier_one(tmp_path, earlier_ru
     shutil.copytree(earlier_run, out)
     run_scene("test1", out, ["-T", "0.5", "-vtk", "0", "-snapshots", "0", "-progress", "0"])
     assert not [f for f in os.listdir(out) if f.endswith((".vtu", ".pvd"))]
+
+
+def test_a_run_restarted_with_vtk_1_can_be_restarted_again(tmp_path):
+    """A run without .vtu files restarted with -vtk 1 writes them from the restart on; a later restart keeps the
+    .vtu files the run wrote (its run.pvd lists them) and needs none before them (before, it was refused: 'its
+    vonmises_t0.vtu is missing'). Every time of run.pvd has its files."""
+    out = tmp_path / "run"
+    run_scene("test1", out, ["-T", "1", "-vtk", "0", "-snapshots", "every:0.25", "-checkpoint_every", "10", "-progress", "0"])
+    run_scene("test1", out, ["-restart", str(out), "-T", "2", "-vtk", "1", "-snapshots", "every:0.25"])
+    run_scene("test1", out, ["-restart", str(out), "-T", "3", "-snapshots", "every:0.25"])
+    times = [t for t, part, _ in read_series(str(out)) if part == 0]
+    assert times == [f"{0.25 * k:g}" for k in range(5, 13)]
+    assert {f for f in os.listdir(out) if f.endswith(".vtu")} == {f for _, _, f in read_series(str(out))}

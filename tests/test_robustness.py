@@ -241,6 +241,89 @@ def test_extending_T_continues_the_same_history(tmp_path, finished):
     assert files_of(finished) == before
 
 
+@pytest.fixture(scope="module")
+def finished_past_checkpoint(tmp_path_factory):
+    """A finished run to T = 12 (step 240) whose last checkpoint is at step 200, with a snapshot (CSV and
+    VTU) at 11.5, after the checkpoint."""
+    out = tmp_path_factory.mktemp("past") / "run"
+    run_scene("test1", out, ["-T", "12", "-snapshots", "11.5", "-progress", "0"])
+    assert open(out / "checkpoint.txt").readline().split()[3] == "200"
+    return str(out)
+
+
+NEVER_SHORTENED = [
+    (["-T", "11"], "the run already reached step 240 (t = 12); give a -T larger than 12 to extend it"),
+    (["-T", "12"], "the run already reached step 240 (t = 12); give a -T larger than 12 to extend it"),
+    (["-T", "13", "-snapshots", "12.5"], "-snapshots leaves out t = 11.5, which the run wrote (snapshot_t11.5.csv); a restart "
+                                         "never removes its run's files"),
+    (["-T", "13", "-vtk", "0"], "-vtk 0 would remove the .vtu files the run wrote from t = 11.5 on"),
+]
+
+
+@pytest.mark.parametrize("args,message", NEVER_SHORTENED, ids=[" ".join(a) for a, _ in NEVER_SHORTENED])
+def test_a_restart_into_its_own_directory_never_removes_what_the_run_wrote(tmp_path, finished_past_checkpoint, args, message):
+    """Issue 32: a finished run restarted into its own directory with a -T below its own (but above its last
+    checkpoint) exited 0 with history.csv cut from 241 to 221 rows and snapshot_t11.5.* deleted. A restart
+    into the run's directory is compared with the run's last history row, not its checkpoint: one that would
+    shorten the run, or drop a file the run wrote after its checkpoint, is refused (exit 3, one line, every
+    file byte-identical), FORCE=1 or not (run_scene passes FORCE=1)."""
+    p, changed = refused_into_copy(tmp_path, finished_past_checkpoint, "test1", ["-restart", str(tmp_path / "copy")] + args)
+    lines = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(lines) == 1 and lines[0].startswith(f"error: -restart {tmp_path / 'copy'}: {message}")
+    assert not changed
+
+
+def test_a_restart_of_a_stopped_run_may_finish_it_but_not_shorten_it(tmp_path, finished_past_checkpoint):
+    """A run stopped after step 240 without its summary (killed: rows past its checkpoint at 200): a restart into
+    its directory to a -T below that row is refused (exit 3, files unchanged); to that row, it finishes the
+    run, with the same history, byte for byte."""
+    out = tmp_path / "run"
+    shutil.copytree(finished_past_checkpoint, out)
+    os.remove(out / "summary.txt")
+    before = files_of(out)
+    p = run_scene("test1", out, ["-restart", str(out), "-T", "11.95"], check=False)
+    assert p.returncode == 3 and files_of(out) == before and error_lines(p) == [
+        f"error: -restart {out}: its history.csv holds steps up to 240 (t = 12), beyond -T 11.95; a restart never shortens "
+        "its run: give a -T of at least 12 (or restart into another directory)"], p.stderr
+    run_scene("test1", out, ["-restart", str(out), "-T", "12"])
+    after = files_of(out)
+    assert after["history.csv"] == before["history.csv"] and "summary.txt" in after
+    assert {f for f in after if f.startswith(("snapshot", "vonmises"))} == {"snapshot_t11.5.csv", "vonmises_t11.5.vtu"}
+
+
+def test_a_restart_into_another_directory_may_stop_earlier(tmp_path, finished_past_checkpoint):
+    """A restart into another OUT only reads the run: any -T past its checkpoint is allowed (to recompute its end,
+    e.g. with another -np), and gives the run's own rows; the run is untouched."""
+    before = files_of(finished_past_checkpoint)
+    out = tmp_path / "other"
+    run_scene("test1", out, ["-restart", finished_past_checkpoint, "-T", "11", "-progress", "0"])
+    rows = (out / "history.csv").read_text().splitlines()
+    assert len(rows) == 222 and rows == before["history.csv"].decode().splitlines()[:222]
+    assert files_of(finished_past_checkpoint) == before
+
+
+def test_a_restart_keeps_the_snapshots_it_keeps_in_the_runs_list(tmp_path, finished):
+    """The snapshots up to the checkpoint are kept; a restart whose -snapshots leaves one out would record a list
+    without it, and a later restart would remove the file: refused, as is -vtk 0 on a run that wrote .vtu files
+    up to its checkpoint. Into another directory too (exit 3, one line, files unchanged)."""
+    vtk = tmp_path / "vtk"
+    run_scene("test1", vtk, ["-T", "1", "-snapshots", "0.5", "-checkpoint_every", "10", "-progress", "0"])
+    for run, args, message in [
+            (finished, ["-T", "12", "-snapshots", "5,11"], "-snapshots leaves out t = 0, a snapshot of the run before its "
+                                                            "checkpoint (t = 10), which the restart keeps: list it too"),
+            (str(vtk), ["-T", "2", "-vtk", "0"], "-vtk 0, but the run wrote .vtu files up to its checkpoint (t = 1), which "
+                                                 "the restart keeps: leave out -vtk 0")]:
+        for into in ("itself", "another"):
+            out = tmp_path / into
+            shutil.rmtree(out, ignore_errors=True)
+            if into == "itself":
+                shutil.copytree(run, out)
+            before = files_of(out) if into == "itself" else None
+            p = run_scene("test1", out, ["-restart", str(out) if into == "itself" else run] + args, check=False)
+            assert p.returncode == 3 and len(error_lines(p)) == 1 and message in error_lines(p)[0], p.stderr
+            assert (files_of(out) == before) if into == "itself" else not out.exists()
+
+
 def test_restart_without_checkpoint_is_a_clear_error(tmp_path):
     p = run_scene("test1", tmp_path / "out", ["-restart", str(tmp_path)], check=False)
     assert p.returncode == 3 and "no checkpoint.txt there" in p.stderr

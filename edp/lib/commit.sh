@@ -13,6 +13,7 @@
 # One line "error: ..." on failure: exit 3 if the restart cannot continue, 7 if a
 # copy or a move fails (disk full?). Before the moves, OUT is untouched.
 set -u
+trap '' INT TERM HUP     # never cut in half: a signal stops the run (edp/run.sh) once the files are moved
 out=..
 unchanged="the output directory is unchanged"
 fail() { echo "error: $2"; exit "$1"; }
