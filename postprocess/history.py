@@ -65,6 +65,19 @@ def guard_stop(text):
     return (int(m.group(1)), float(m.group(2)), float(m.group(3))) if m else None
 
 
+THROUGH_RE = re.compile(r"^error: the body passed through the foundation at step (\d+) \(t = ([-+0-9.eE]+)\): .*, is (\S+) "
+                        r"below it, ([0-9.]+)% of the body's size ")
+
+
+def through_stop(text):
+    """(step, t, depth, depth in % of the body's size) of a run stopped because its boundary outside Gamma_C went
+    through the foundation (edp/lib/guards.idp): its output's one error line is "error: the body passed through the
+    foundation at step N (t = X): its boundary vertex ..., is D below it, P% of the body's size ..."; None otherwise."""
+    lines = error_lines(text)
+    m = THROUGH_RE.match(lines[0]) if len(lines) == 1 else None
+    return (int(m.group(1)), float(m.group(2)), float(m.group(3)), float(m.group(4))) if m else None
+
+
 def contact_intervals(t, in_contact, min_gap=0.5):
     """Time intervals of contact; gaps shorter than min_gap (chatter) are merged."""
     intervals = []

@@ -383,3 +383,24 @@ def test_3d_restart_on_another_mesh_names_its_tetrahedra(tmp_path, earlier_ball)
         f"error: -restart {earlier_ball}: its checkpoint is for a mesh with 667 vertices and 2674 tetrahedra; -mesh "
         f"{ROOT}/meshes/hertz_coarse.msh has 534 and 2215"], p.stderr
     assert files_of(earlier_ball) == before and not (tmp_path / "out").exists()
+
+
+def test_a_3d_scene_on_a_plane_mesh_says_what_does_not_apply(tmp_path):
+    """Issue 32, item 10. `ball -mesh meshes/disk.msh` ran with no gravity and no lift (the scene's fz and
+    u0z apply to a 3D body only), exit 0, and printed no word: the warning came only for -fz given on the
+    command line. Now one warning line names every 3D setting that does not apply, with its value and
+    where it came from (the scene or the command line), and what the plane run takes instead."""
+    disk = os.path.join(ROOT, "meshes", "disk.msh")
+    plane = (f"apply to a 3D body, where X3 is vertical, and -mesh {disk} is plane, where X2 is vertical; the run goes on "
+             "with what applies to a plane body: ")
+    p = run_scene("ball", tmp_path / "scene", ["-mesh", disk, "-T", "0.1"] + QUIET)
+    warnings = [line for line in p.stderr.splitlines() if line.startswith("warning:")]
+    assert warnings == ["warning: -fz -0.1 and -u0z 4 (from the scene ball) have no effect: they " + plane
+                        + "f = (fx, fy) = (0, 0), u0 = (u0x, u0y) = (0, 0), v0 = (v0x, v0y) = (0, 0)"], p.stderr
+    q = run_scene("ball", tmp_path / "both", ["-mesh", disk, "-T", "0.1", "-fy", "-0.1", "-u0y", "4", "-v0z", "-3"] + QUIET)
+    warnings = [line for line in q.stderr.splitlines() if line.startswith("warning:")]
+    assert warnings == ["warning: -fz -0.1 and -u0z 4 (from the scene ball) and -v0z -3 (from the command line) have no "
+                        "effect: they " + plane + "f = (fx, fy) = (0, -0.1), u0 = (u0x, u0y) = (0, 4), v0 = (v0x, v0y) = (0, 0)"]
+    r = run_scene("test1", tmp_path / "one", ["-T", "0.1", "-v0z", "1"] + QUIET)
+    warnings = [line for line in r.stderr.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and warnings[0].startswith("warning: -v0z 1 (from the command line) has no effect: it applies to a 3D body")

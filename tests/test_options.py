@@ -444,22 +444,6 @@ def test_boundary_outside_gamma_c_below_the_foundation_at_the_start_is_refused(t
     assert not changed
 
 
-def test_boundary_outside_gamma_c_through_the_foundation_is_recorded_and_said(tmp_path):
-    """The disk with Gamma_C on its top falls through the foundation: the history records the
-    largest penetration of the boundary vertices outside Gamma_C (the lowest point: 20.3 by t = 30,
-    measured), the summary too, and the run ends with a warning line that says why; the constrained
-    Gamma_C itself never penetrates (max_penetration 0)."""
-    out = tmp_path / "out"
-    p = run_scene("test1", out, ["-contact_label", "2", "-T", "30", "-progress", "0", "-snapshots", "none", "-solver",
-                                 "activeset"])
-    h = read_run(str(out))
-    assert h["max_penetration_outside"][0] == 0 and 20 < h["max_penetration_outside"].max() < 21
-    assert h["max_penetration"].max() < 1e-9
-    assert "max_penetration_outside 20.34" in (out / "summary.txt").read_text()
-    warnings = [line for line in p.stderr.splitlines() if line.startswith("warning: boundary vertices outside Gamma_C")]
-    assert len(warnings) == 1 and "only Gamma_C is constrained" in warnings[0], p.stderr
-
-
 def test_singular_step_matrix_names_its_cause(tmp_path, earlier_run):
     """Issue 19: -rho 1e-20 (in the documented range) makes A = 2 M / dt^2 + K / 2 numerically K, which
     is singular for a free body; both factorisations fail. It said 'try -factorization lu', and with

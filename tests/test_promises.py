@@ -5,6 +5,7 @@ steps below the arithmetic's floor ends in exit 0 without a line that says so; e
 the option the user gave and points the way to move it. Each test below failed on the code before
 issue 23 (exit 0 with a wrong result, or a misleading line) and states the property it checks."""
 import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -188,6 +189,101 @@ def test_a_body_that_passes_through_the_foundation_stops(tmp_path):
     errors = error_lines(p)
     assert p.returncode == 4 and len(errors) == 1 and "more than its own size 40: it passed through" in errors[0], p.stderr
     assert "use a larger -nitsche_gamma0 (1000 here)" in errors[0]
+
+
+# ---- issue 32, item 1: the body through the foundation beside Gamma_C (guards.idp, throughGuardStep)
+
+THROUGH = 0.05      # of the body's size L: deeper, the run stops (edp/lib/guards.idp)
+
+
+def assert_through(p, out, size, *words):
+    """Exit 4, one error line naming the vertex, its depth and the cause (words), and a history that ends
+    at the first step whose boundary outside Gamma_C is more than THROUGH of the body's size below the
+    foundation (max_penetration_outside): every earlier row within it, all finite; no summary.txt."""
+    errors = error_lines(p)
+    assert p.returncode == 4 and len(errors) == 1, p.stderr
+    line = errors[0]
+    assert line.startswith("error: the body passed through the foundation at step "), line
+    assert f"of the body's size {size:g}, beyond the 5% a run accepts" in line, line
+    assert line.endswith("; history.csv keeps every step up to this one"), line
+    for w in words:
+        assert w in line, (w, line)
+    h = read_csv(os.path.join(out, "history.csv"))
+    deep = h["max_penetration_outside"] > THROUGH * size
+    step = int(line.split(" at step ")[1].split(" ")[0])
+    assert h["step"][-1] == step and deep[-1] and not deep[:-1].any()
+    assert np.isfinite(np.column_stack(list(h.values()))).all()
+    assert not os.path.exists(os.path.join(out, "summary.txt"))
+    return h, line
+
+
+SQUASHED = "Gamma_C presses on the foundation (133 of its 133 vertices), and the body is squashed past it"
+NOT_TOUCHING = ("Gamma_C does not touch the foundation at this step: the body meets it with another part of its boundary; "
+                "give that part the label of Gamma_C (-contact_label)")
+
+
+def test_a_ball_squashed_through_the_foundation_stops_whatever_the_step(tmp_path):
+    """Item 1. The ball at -v0z -10 (1.06 times its P-wave speed sqrt((lambda + 2 mu) / rho) = 9.49) held
+    Gamma_C on the floor while the rest of it went through: its centre of mass ended 2.6 below the floor
+    by T = 4 (140 at -v0z -100) with exit 0. Now the run stops when its boundary beside Gamma_C is 5% of
+    its size below the foundation, before the centre of mass gets there, and names the cause: an impact
+    fast against the body's wave speed. Not the step: at -dt 0.0125 it stops at the same time to 0.1."""
+    out = tmp_path / "v10"
+    p = run_scene("ball", out, ["-T", "4", "-solver", "activeset", "-v0z", "-10"] + QUIET, check=False)
+    h, line = assert_through(p, out, 40, SQUASHED, "its centre of mass moved at up to 10.0399, 1.06 times its P-wave "
+                             "speed sqrt((lambda + 2 mu) / rho) = 9.48683", "a smaller -dt gives the same",
+                             "lower the speed, stiffen the body (-lambda, -mu)")
+    assert h["t"][-1] == 2.25 and 20 + h["u3_mean"][-1] > 3.9    # the centre of mass still 3.99 above the floor
+    fine = tmp_path / "v10_dt"
+    q = run_scene("ball", fine, ["-T", "4", "-dt", "0.0125", "-solver", "activeset", "-v0z", "-10"] + QUIET, check=False)
+    g, _ = assert_through(q, fine, 40, SQUASHED)
+    assert abs(g["t"][-1] - h["t"][-1]) <= 0.1, g["t"][-1]
+    fast = tmp_path / "v100"
+    r = run_scene("ball", fast, ["-T", "1", "-solver", "activeset", "-v0z", "-100"] + QUIET, check=False)
+    assert_through(r, fast, 40, "Gamma_C presses on the foundation", "10.54 times its P-wave speed")
+
+
+def test_a_cube_labelled_on_top_stops_when_it_sinks(tmp_path):
+    """Item 1. A cube whose Gamma_C is its top face falls onto the foundation with its bottom face, which
+    (10) does not hold: it sank whole below X3 = 0 with exit 0. Now it stops at the step its bottom is 5%
+    of its size below, and the line says that Gamma_C does not touch and which label to give."""
+    geo = tmp_path / "cube.geo"
+    geo.write_text('SetFactory("OpenCASCADE");\nBox(1) = {-5, -5, 0, 10, 10, 10};\nPhysical Surface(1) = {6};\n'
+                   "Physical Surface(2) = {1, 2, 3, 4, 5};\nPhysical Volume(1) = {1};\nMesh.CharacteristicLengthMax = 5;\n")
+    mesh = tmp_path / "cube.msh"
+    subprocess.run(["gmsh", "-3", "-format", "msh22", str(geo), "-o", str(mesh)], check=True, capture_output=True)
+    out = tmp_path / "cube"
+    p = run_scene("ball", out, ["-mesh", str(mesh), "-T", "6", "-v0z", "-2", "-solver", "activeset"] + QUIET, check=False)
+    h, line = assert_through(p, out, 10, NOT_TOUCHING, "its boundary vertex (")
+    assert (h["active_nodes"] == 0).all() and h["max_penetration"].max() < 1e-9
+
+
+def test_a_disk_labelled_on_top_stops_when_it_sinks(tmp_path):
+    """Item 1, in 2D. The disk with Gamma_C on its top (-contact_label 2) fell through the foundation, its
+    lowest point 20.3 below by t = 30, with exit 0 and a warning. Now it stops at t = 11, the step its
+    lowest point is 2.05 below (5.1% of 40), with the line that says which label to give."""
+    out = tmp_path / "label2"
+    p = run_scene("test1", out, ["-contact_label", "2", "-T", "30", "-solver", "activeset"] + QUIET, check=False)
+    h, line = assert_through(p, out, 40, NOT_TOUCHING, "at step 220 (t = 11): its boundary vertex (0, 0), not on Gamma_C "
+                             "(label 2), is 2.05 below it, 5.12% of the body's size 40")
+    assert h["max_penetration"].max() < 1e-9
+
+
+def test_a_shallow_overlap_beside_gamma_c_is_a_warning(tmp_path):
+    """Item 1. Below the stop, the boundary beside Gamma_C dipping under the foundation (the ball at
+    -v0z -6 spreads past Gamma_C by 0.44, 1.1% of its size) is a run that goes on, with one warning line
+    whose advice is the right one there: label that part of the boundary Gamma_C."""
+    out = tmp_path / "v6"
+    p = run_scene("ball", out, ["-T", "6", "-solver", "activeset", "-v0z", "-6"] + QUIET)
+    h = read_csv(os.path.join(out, "history.csv"))
+    assert 0.01 * 40 < h["max_penetration_outside"].max() < THROUGH * 40
+    warnings = [line for line in p.stderr.splitlines() if line.startswith("warning:")]
+    assert warnings == [
+        "warning: boundary vertices not on Gamma_C (label 1) went 0.43872 below the foundation (max_penetration_outside in "
+        "history.csv), 1.1% of the body's size 40 (beyond 5% the run stops): only Gamma_C is constrained, so the body "
+        "overlapped the foundation there; give the part of the boundary that meets the foundation the label of Gamma_C "
+        "(-contact_label)"], p.stderr
+    assert "max_penetration_outside 0.43872" in (out / "summary.txt").read_text()
 
 
 # ---- 5: the smallest step

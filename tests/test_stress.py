@@ -71,3 +71,18 @@ def test_guard_stop_is_told_apart():
     assert guard_stop(line + line) is None
     assert guard_stop("error: step 7 (t = 0.35) gave a non-finite solution; history.csv keeps every step before it") is None
     assert CASES["verlet penalty at 0.9 dt_c"][2] == "guarded"
+
+
+def test_through_stop_is_told_apart():
+    """A case of THROUGH (v0y -10: the disk squashed past Gamma_C) may end at the stop of the body through the
+    foundation: one line "error: the body passed through the foundation at step N (t = X): ..., is D below it,
+    P% of the body's size ..." (exit 4); any other line, or two, is a failure."""
+    from stress import THROUGH, through_stop
+    line = ("error: the body passed through the foundation at step 43 (t = 2.15): its boundary vertex (-18.4776, 12.3463), "
+            "not on Gamma_C (label 1), is 2.03314 below it, 5.08% of the body's size 40, beyond the 5% a run accepts (only "
+            "Gamma_C is held by (10)); Gamma_C presses on the foundation (49 of its 49 vertices), ...; history.csv keeps every "
+            "step up to this one\n")
+    assert through_stop(line) == (43, 2.15, 2.03314, 5.08)
+    assert through_stop(line + line) is None
+    assert through_stop("error: the modified energy grew from 502.362 to 618.219 by step 1165 (t = 20.97), 10.6% of ...") is None
+    assert THROUGH == {"v0y -10", "neohookean soft lambda = mu = 3", "ball soft Neo-Hookean lambda = mu = 3"}
