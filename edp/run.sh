@@ -209,7 +209,7 @@ export FF_LOADPATH=/usr/lib/freefem++
 # (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
 # misreads a '\' in it, so its entries hold no path of the user's: they are relative to the staging directory, FreeFEM's
 # working directory, where .edp is a link to edp/
-ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
 export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 if [ -n "$np" ]; then
   # -np N: FreeFem++-mpi's plugins; ffddm's files as installed, but ffddm.idp without its line `load "MUMPS_mpi"`:
