@@ -29,6 +29,21 @@ endif
 endif
 endif
 T1_VALUES := 18 22 26
+# NP=N (each run on N processes, docs/parallel.md) and JOBS=N (runs at a time): a goal that does not use one that
+# is given says so in one line, with why, and runs as it would without it
+NP_GIVEN := $(filter command line environment%,$(origin NP))
+JOBS_GIVEN := $(filter command line environment%,$(origin JOBS))
+GOALS := $(or $(MAKECMDGOALS),all)
+ifneq ($(NP_GIVEN),)
+$(foreach g,$(filter test1 test2 paper all figures,$(GOALS)),$(info note: make $(g) runs serially: the paper's runs use -solver ipopt, which does not run on -np (docs/parallel.md); NP=$(NP) is not used))
+$(foreach g,$(filter bench,$(GOALS)),$(info note: make bench runs its cases serially and on 1, 2 and 4 processes itself (docs/parallel.md); NP=$(NP) is not used))
+$(foreach g,$(filter animation check,$(GOALS)),$(info note: make $(g) starts no run of its own; NP=$(NP) is not used))
+endif
+ifneq ($(JOBS_GIVEN),)
+$(foreach g,$(filter accuracy stress bench,$(GOALS)),$(info note: make $(g) times its runs, so it runs them one at a time; JOBS=$(JOBS) is not used))
+$(foreach g,$(filter test1 test2 ball paper all figures,$(GOALS)),$(info note: make $(g)'s runs are make's own rules: make -j $(JOBS) $(g) runs $(JOBS) at a time; JOBS=$(JOBS) is not used))
+$(foreach g,$(filter run animation check,$(GOALS)),$(info note: make $(g) runs one thing at a time; JOBS=$(JOBS) is not used))
+endif
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)
 RUN := edp/run.sh
@@ -173,13 +188,14 @@ $(FIGURES)/bounce.gif: $(RESULTS)/bounce/summary.txt postprocess/animate.py | de
 	$(PYTHON) postprocess/animate.py --run $(<D) --out $@ --fps 8
 
 # ---- the ball (docs/3d.md): Test 1 and Test 2 (t1 = 18, 22, 26) in 3D, and the analogues of Figs. 1-3, 5-6
+# (NP=N: each run on N processes)
 ball: $(RESULTS)/ball/summary.txt $(foreach t1,$(T1_VALUES),$(RESULTS)/ball_moving_t1_$(t1)/summary.txt) | deps-plot
 	$(PYTHON) postprocess/plot_ball.py --results $(RESULTS) --out $(FIGURES)
 # (the exact active set: IPOPT takes 307 s CPU for the ball to T = 120, the active set 8.9 s, docs/3d.md)
 $(RESULTS)/ball/summary.txt: edp/scenes/ball.idp $(EDP_SOURCES) meshes/ball.msh | deps-run
-	FORCE=1 $(RUN) ball $(@D) -solver activeset
+	FORCE=1 $(RUN) ball $(@D) -solver activeset$(if $(NP), -np "$(NP)")
 $(RESULTS)/ball_moving_t1_%/summary.txt: edp/scenes/ball_moving.idp $(EDP_SOURCES) meshes/ball.msh | deps-run
-	FORCE=1 $(RUN) ball_moving $(@D) -t1 $* -snapshots none -solver activeset
+	FORCE=1 $(RUN) ball_moving $(@D) -t1 $* -snapshots none -solver activeset$(if $(NP), -np "$(NP)")
 
 figures: test1 test2 | deps-plot
 	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)

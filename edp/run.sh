@@ -213,8 +213,11 @@ OPT
 
 # ---- FreeFEM, in the staging directory (commit.sh moves it on into OUT)
 export FF_LOADPATH=/usr/lib/freefem++
-# (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp)
-export FF_INCLUDEPATH="$stage;$here;/usr/include/freefem++/idp"
+# (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
+# misreads a '\' in it, so its entries hold no path of the user's: they are relative to the staging directory, FreeFEM's
+# working directory, where .edp is a link to edp/
+ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
+export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 if [ -n "$np" ]; then
   # -np N: FreeFem++-mpi's plugins; ffddm's files as installed, but ffddm.idp without its line `load "MUMPS_mpi"`:
   # Debian does not ship MUMPS_mpi.so, and with it `include "ffddm.idp"` stops every run ("Load error: MUMPS_mpi",
@@ -224,7 +227,7 @@ if [ -n "$np" ]; then
   for f in /usr/include/freefem++/idp/ffddm*.idp; do
     sed '/^[[:space:]]*load[[:space:]]*"MUMPS_mpi"/d' "$f" > "$stage/.ffddm/${f##*/}" 2>/dev/null || err "cannot write into $out (disk full?)" 7
   done
-  export FF_INCLUDEPATH="$stage;$stage/.ffddm;$here;/usr/include/freefem++/idp"
+  export FF_INCLUDEPATH=".;.ffddm;.edp;/usr/include/freefem++/idp"
   # Open MPI refuses to start as root without these (CI runs as root)
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
@@ -288,9 +291,10 @@ stop_freefem() {
   stopped_at=$SECONDS
 }
 for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
+# (awk -v reads a '\' as the start of an escape: the scene's path has each doubled)
 { run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
     -v trace='Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code' \
-    -v scene="$scene_file" -v errfile="$errfile" '
+    -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" '
   function newline() { if (pending) { printf "\n"; pending = 0 } }
   function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
   tagged { rank = -1

@@ -22,7 +22,7 @@ run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh mes
 case "${1:-}" in
 prepare)
   step=$2 dir=$CONTACT_RESTART
-  awk -F, -v s="$step" -v header_file=expected_header.txt -v dir="$dir" '
+  awk -F, -v s="$step" -v header_file=expected_header.txt '
     BEGIN { getline want < header_file }
     NR == 1 { if ($0 != want) { bad = "its history.csv has other columns than this run writes (another version, or other -probes)"; exit }
               n = NF; print > "history.csv"; next }
@@ -30,7 +30,7 @@ prepare)
     NF != n || $1 != NR - 2 { bad = "its history.csv is incomplete or out of order at line " NR " (step " NR - 2 ")"; exit }
     { print > "history.csv"; last = $1 }
     END { if (bad == "" && last != s) bad = "its history.csv stops at step " (NR > 1 ? last : "none") ", before the checkpoint (step " s ")"
-          if (bad != "") { printf "error: -restart %s: %s\n", dir, bad; exit 3 }
+          if (bad != "") { printf "error: -restart %s: %s\n", ENVIRON["CONTACT_RESTART"], bad; exit 3 }
           if (close("history.csv") != 0) exit 7 }' "$dir/history.csv" 2>/dev/null
   status=$?
   [ $status -eq 3 ] && exit 3
