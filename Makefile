@@ -19,9 +19,9 @@ ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOB
 $(error JOBS must be a positive integer (runs at a time of make svk, methods, csm3 and hertz), got '$(JOBS)')
 endif
 endif
-# processes of each run in make run, accuracy, stress, svk, methods, csm3 and hertz (NP=N: edp/run.sh -np N); when
+# processes of each run in make run, ball, accuracy, stress, svk, methods, csm3 and hertz (NP=N: edp/run.sh -np N); when
 # given, what run.sh -np takes (1 to 1024, at most 4 digits), checked like JOBS before anything is built or removed
-ifneq ($(filter run accuracy stress svk methods csm3 hertz,$(MAKECMDGOALS)),)
+ifneq ($(filter run ball accuracy stress svk methods csm3 hertz,$(MAKECMDGOALS)),)
 ifneq ($(NP),)
 ifneq ($(shell n='$(subst ','\'',$(NP))'; [[ $$n =~ ^[0-9]{1,4}$$ ]] && (( 10#$$n >= 1 && 10#$$n <= 1024 )) && echo ok),ok)
 $(error NP must be a whole number of processes per run from 1 to 1024 (edp/run.sh -np N), got '$(NP)')

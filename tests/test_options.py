@@ -610,7 +610,7 @@ def earlier_study(directory):
     return files_of(directory)
 
 
-@pytest.mark.parametrize("target", ["run", "accuracy", "stress", "svk", "methods", "csm3", "hertz"])
+@pytest.mark.parametrize("target", ["run", "ball", "accuracy", "stress", "svk", "methods", "csm3", "hertz"])
 @pytest.mark.parametrize("np_", ["0", "2000", "two", "1 2"])
 def test_make_study_with_a_bad_np_is_one_line_naming_np_and_keeps_results(tmp_path, target, np_):
     """Issue 32: make hertz NP=2000 removed summary.md, hertz.csv and the figures before the first run refused
