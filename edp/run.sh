@@ -353,7 +353,7 @@ while kill -0 $pipeline 2>/dev/null; do
   sleep 0.2
 done
 wait $pipeline 2>/dev/null
-read -r -a status < "$errfile.status" 2>/dev/null
+{ read -r -a status < "$errfile.status"; } 2>/dev/null     # (missing when a signal to the process group ended the pipeline's shell too)
 rc=${status[0]:-143} filter=${status[2]:-143}
 # A run stopped mid-row (a failed write, a signal) leaves part of a row: history.csv keeps the complete ones.
 keep_complete_rows() {
