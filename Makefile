@@ -202,7 +202,7 @@ figures: test1 test2 | deps-plot
 
 # ---- tests
 check: meshes | deps-test
-	$(PYTHON) -m pytest -q tests
+	$(PYTHON) -m pytest -q --durations=15 tests
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
 bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh \
