@@ -195,8 +195,10 @@ def test_ctrl_c_of_a_make_study_target_is_130(tmp_path):
 # told "in use by another run ()"; SIGTERM to FreeFEM itself was "a bug in the suite", exit 1)
 
 SERIAL = ("test1", ["-T", "20", "-checkpoint_every", "50", "-progress", "0", "-snapshots", "none", "-vtk", "0"], 400)
-PARALLEL = ("ball", ["-np", "2", "-solver", "activeset", "-T", "8", "-checkpoint_every", "50", "-progress", "0",
-                     "-snapshots", "none", "-vtk", "0"], 160)
+# (T: mpirun, sent a signal, stops its processes about a second later, in which they make 100 to 200 steps: the
+# run must not reach T in that time)
+PARALLEL = ("ball", ["-np", "2", "-solver", "activeset", "-T", "24", "-checkpoint_every", "50", "-progress", "0",
+                     "-snapshots", "none", "-vtk", "0"], 480)
 
 
 def started(scene, out, args, rows=60):
@@ -289,3 +291,24 @@ def test_a_lock_that_names_no_holder_is_reported_clearly(tmp_path, earlier_run):
     assert p.returncode == 3 and p.stderr == (f"error: {out} is in use by another run that is starting or ending (it has not "
                                               "named itself); try again in a moment\n"), p.stderr
     assert files_of(out) == before
+
+
+def test_a_signal_to_mpirun_as_the_run_reaches_t_leaves_a_complete_run(tmp_path):
+    """mpirun, sent SIGTERM, stops its processes about a second later, and in that second they may reach T and write
+    summary.txt: such a run is complete, so edp/run.sh says so in a note: line and exits 0 (it exited 143 with a
+    'killed' line beside a complete summary.txt); history.csv holds every step."""
+    scene, args, _ = PARALLEL
+    args = [a if a != "24" else "6" for a in args]           # 120 steps
+    out = tmp_path / "out"
+    p = started(scene, out, args, rows=100)     # (20 steps left: well within that second)
+    for pid in processes_of(out):
+        if open(f"/proc/{pid}/comm").read().strip() == "mpirun":
+            os.kill(pid, signal.SIGTERM)
+    try:
+        stdout, err = p.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    assert p.returncode == 0 and not [line for line in err.splitlines() if line.startswith("error:")], (stdout, err)
+    assert (out / "summary.txt").exists() and history_rows(out / "history.csv") == 121 + 1
+    assert not processes_of(out) and (out / ".lock").read_text() == ""
