@@ -1,6 +1,6 @@
 # check_checkpoint.awk -- check a checkpoint.txt whole before FreeFEM reads it
 # (FreeFEM aborts without a useful message on a malformed number).
-# usage: awk -v name=DIR -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M -v cells=C -v nodes=D \
+# usage: CONTACT_RESTART=DIR awk -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M -v cells=C -v nodes=D \
 #            -f numbers.awk -f check_checkpoint.awk FILE
 #   (C, D: how the messages name the mesh's cells and nodes: triangles or tetrahedra, vertices or nodes)
 # Format (output.idp, writeCheckpoint): one header line
@@ -11,6 +11,7 @@
 # the contact multipliers (NCONTACT values),
 # each as FreeFEM writes an array (its size, then the values), then "end STEP".
 # Prints one line "error: -restart DIR: ..." and exits 3 on the first defect.
+BEGIN { name = ENVIRON["CONTACT_RESTART"] }     # (DIR from the environment: -v would read a '\' in it as an escape)
 function fail(msg) { printf "error: -restart %s: %s\n", name, msg; failed = 1; exit 3 }
 # a file cut anywhere (mid-number too) lacks its last line "end STEP": say so first
 BEGIN {

@@ -1,11 +1,12 @@
 # check_reached.awk -- a restart into its own directory must not undo what the run already wrote
 # (restart.idp): it never shortens the run, nor drops a snapshot the run wrote after its checkpoint.
-# usage: awk -F, -v name=DIR -v steps=N -v T=T -v snapshot=K -v snapshot_t=T -v vtu=K -v vtu_t=T \
+# usage: CONTACT_RESTART=DIR awk -F, -v steps=N -v T=T -v snapshot=K -v snapshot_t=T -v vtu=K -v vtu_t=T \
 #            -f check_reached.awk DIR/history.csv
 #   steps, T: the restart's last step and its time; snapshot (vtu): the first step after the checkpoint where
 #   the run's -snapshots (-vtk 1) wrote a file that the restart would not write again, or -1; _t: its time.
 # The run reached the last complete row of its history.csv (step R); it finished if it wrote summary.txt.
 # Prints one line "error: -restart DIR: ..." and exits 3 if the restart would drop any of it.
+BEGIN { name = ENVIRON["CONTACT_RESTART"] }     # (DIR from the environment: -v would read a '\' in it as an escape)
 function fail(msg) { printf "error: -restart %s: %s\n", name, msg; exit 3 }
 NR == 1 { n = NF; next }
 NF == n && $1 ~ /^[0-9]+$/ { reached = $1 + 0; t = sprintf("%.9f", $2); sub(/0+$/, "", t); sub(/\.$/, "", t) }
