@@ -364,8 +364,30 @@ keep_complete_rows() {
     truncate -s $(($(stat -c %s "$out/history.csv") - partial)) "$out/history.csv"
   fi
 }
+# A restart into its own directory kept the run's files aside (commit.sh): if it stopped before it went past the
+# run's last row, they are put back whole (the restart's own files removed); otherwise its history supersedes them.
+settle_kept() {
+  local kept=$out/.restart_kept f
+  [ -d "$kept" ] || return 0
+  if [ "$1" != 0 ] && [ "$(wc -l < "$out/history.csv" 2>/dev/null || echo 0)" -le "$(wc -l < "$kept/history.csv" 2>/dev/null || echo 0)" ]; then
+    for f in "$out"/history.csv "$out"/parameters.txt "$out"/scene.idp "$out"/ipopt.opt "$out"/ipopt.out "$out"/mesh.msh \
+             "$out"/mesh.mesh "$out"/foundation.csv "$out"/summary.txt "$out"/checkpoint.txt "$out"/run.pvd \
+             "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
+      rm -f "$f"
+    done
+    for f in "$kept"/* "$kept"/.[!.]*; do [ -e "$f" ] && mv -f "$f" "$out/"; done
+    echo "note: the restart stopped before it passed the run's last row: $out_arg holds the run as it was before it"
+  fi
+  rm -rf "$kept"
+}
 # run.sh was sent a signal, and FreeFEM has ended: no line of its own (the caller sent it)
-[ -z "$caught" ] || { keep_complete_rows; die_of "$caught"; }
+# (... unless the run had reached T: then it is complete, as below)
+if [ -n "$caught" ] && [ "$rc" = 0 ] && [ -e "$stage/.committed" ] && [ -s "$out/summary.txt" ]; then
+  echo "note: edp/run.sh was sent SIG$caught after the run reached T; the run is complete (its closing warning: lines, if any, may be missing)"
+  settle_kept 0
+  exit 0
+fi
+[ -z "$caught" ] || { keep_complete_rows; settle_kept 1; die_of "$caught"; }
 # -np N: the status a process gave when it stopped (the others may have been stopped for it)
 given=""
 if [ -s "$errfile.stop" ]; then
@@ -390,7 +412,7 @@ if [ -z "$given" ] && [ "$filter" = 0 ]; then
 fi
 # ... after the run reached T: it is complete (mpirun, sent a signal, stops its processes a second later)
 if [ -n "$signal_name" ] && [ -e "$stage/.committed" ] && [ -s "$out/summary.txt" ]; then
-  echo "note: FreeFEM was killed by $signal_name after the run reached T; the run is complete"
+  echo "note: FreeFEM was killed by $signal_name after the run reached T; the run is complete (its closing warning: lines, if any, may be missing)"
   rc=0
 fi
 case "$rc" in
@@ -421,4 +443,5 @@ if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summ
   exit_status=1
 fi
 case "$exit_status" in 7 | 129 | 130 | 137 | 143) keep_complete_rows ;; esac
+settle_kept "$exit_status"
 exit "$exit_status"

@@ -273,6 +273,29 @@ def test_a_restart_into_its_own_directory_never_removes_what_the_run_wrote(tmp_p
     assert not changed
 
 
+@pytest.mark.parametrize("fail_step,kept", [(220, True), (250, False)], ids=["before its last row", "past it"])
+def test_a_restart_into_its_own_directory_that_stops_keeps_the_run(tmp_path, finished_past_checkpoint, fail_step, kept):
+    """An extending restart into the run's own directory that stops with an error (here a non-finite step, exit 4;
+    as for Ctrl-C, a full disk) before it has gone past the run's last row (step 240) leaves the run as it was,
+    byte for byte, summary.txt and the snapshot after the checkpoint included (they were removed, so that a later
+    restart could shorten the finished run); one that stops past that row keeps its own longer history."""
+    out = tmp_path / "run"
+    shutil.copytree(finished_past_checkpoint, out)
+    before = files_of(out)
+    p = subprocess.run([RUN, "test1", str(out), "-restart", str(out), "-T", "14",
+                        "-progress", "0"], capture_output=True, text=True,
+                       env=dict(os.environ, CONTACT_TEST_NAN_STEP=str(fail_step)))
+    assert p.returncode == 4 and len(error_lines(p)) == 1, p.stderr
+    after = files_of(out)
+    assert not (out / ".restart_kept").exists()
+    if kept:
+        assert after == before and "the restart stopped before it passed the run's last row" in p.stdout
+    else:
+        assert len(after["history.csv"].decode().splitlines()) == fail_step + 1
+        assert after["history.csv"].startswith(before["history.csv"][:-1].rsplit(b"\n", 1)[0])
+        assert "snapshot_t11.5.csv" in after and "summary.txt" not in after
+
+
 def test_a_restart_of_a_stopped_run_may_finish_it_but_not_shorten_it(tmp_path, finished_past_checkpoint):
     """A run stopped after step 240 without its summary (killed: rows past its checkpoint at 200): a restart into
     its directory to a -T below that row is refused (exit 3, files unchanged); to that row, it finishes the

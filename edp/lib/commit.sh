@@ -53,6 +53,15 @@ commit)
   fi
   # from here on OUT changes: run.sh counts the run as started (history.csv is its own from now)
   : > .committed || fail 7 "cannot write into the staging directory (disk full?); $unchanged"
+  # a restart into its own directory: the run's files are kept aside in OUT/.restart_kept until the restart
+  # has gone past the run's last row or ends well; edp/run.sh puts them back if it stops before (outputs.md)
+  if [ -n "${CONTACT_RESTART:-}" ] && [ "$(cd "$out" && pwd -P)" = "$CONTACT_RESTART" ]; then
+    rm -rf "$out/.restart_kept" && mkdir "$out/.restart_kept" || fail 7 "cannot write into the output directory (disk full?)"
+    for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu; do
+      f=${f##*/}
+      [ ! -e "$out/$f" ] || mv -f "$out/$f" "$out/.restart_kept/" 2>/dev/null || fail 7 "cannot keep the run's $f aside"
+    done
+  fi
   for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
     f=${f##*/}
     if [ -e "$out/$f" ] && [ ! -e "$f" ]; then
