@@ -367,15 +367,10 @@ keep_complete_rows() {
 # A restart into its own directory kept the run's files aside (commit.sh): if it stopped before it went past the
 # run's last row, they are put back whole (the restart's own files removed); otherwise its history supersedes them.
 settle_kept() {
-  local kept=$out/.restart_kept f
+  local kept=$out/.restart_kept
   [ -d "$kept" ] || return 0
   if [ "$1" != 0 ] && [ "$(wc -l < "$out/history.csv" 2>/dev/null || echo 0)" -le "$(wc -l < "$kept/history.csv" 2>/dev/null || echo 0)" ]; then
-    for f in "$out"/history.csv "$out"/parameters.txt "$out"/scene.idp "$out"/ipopt.opt "$out"/ipopt.out "$out"/mesh.msh \
-             "$out"/mesh.mesh "$out"/foundation.csv "$out"/summary.txt "$out"/checkpoint.txt "$out"/run.pvd \
-             "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
-      rm -f "$f"
-    done
-    for f in "$kept"/* "$kept"/.[!.]*; do [ -e "$f" ] && mv -f "$f" "$out/"; done
+    (cd "$stage" && sh "$here/lib/commit.sh" restore) >&2 || return 0     # (its error line; the kept files stay)
     echo "note: the restart stopped before it passed the run's last row: $out_arg holds the run as it was before it"
   fi
   rm -rf "$kept"

@@ -10,6 +10,7 @@
 #   commit.sh commit NV NT NBE [3]  check mesh.msh (1 + NV + NT + NBE lines; a 3D body's mesh.mesh: its
 #       closing line), remove the
 #       earlier run's files that the new run does not replace, move the staged files into OUT
+#   commit.sh restore   put back the run's files that a restart into OUT itself kept aside (OUT/.restart_kept)
 # One line "error: ..." on failure: exit 3 if the restart cannot continue, 7 if a
 # copy or a move fails (disk full?). Before the moves, OUT is untouched.
 set -u
@@ -73,5 +74,14 @@ commit)
     mv -f "$f" "$out/" 2>/dev/null || fail 7 "cannot move $f into the output directory"
   done
   ;;
-*) fail 1 "usage: commit.sh prepare STEP | commit NV NT NBE" ;;
+restore)      # edp/run.sh, when a restart into OUT itself stopped before it passed the run's last row: OUT's run
+              # files are the restart's; remove them and put the kept ones back
+  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
+    rm -f "$out/${f##*/}"
+  done
+  for f in "$out/.restart_kept"/* "$out/.restart_kept"/.[!.]*; do
+    [ ! -e "$f" ] || mv -f "$f" "$out/" || fail 7 "cannot put the run's ${f##*/} back from $out/.restart_kept"
+  done
+  ;;
+*) fail 1 "usage: commit.sh prepare STEP | commit NV NT NBE | restore" ;;
 esac
