@@ -161,7 +161,7 @@ def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, e
             assert status in (-signal.SIGINT, 130), (status, err)
         else:
             p.send_signal(signal.SIGTERM)
-            _, err = p.communicate(timeout=30)
+            _, err = ended(p)
             assert p.returncode == -signal.SIGTERM and err == "", (p.returncode, err)
         assert not freefem_running(out)
     assert files_of(earlier) == before and not os.path.exists(earlier / ".staging")
@@ -212,6 +212,15 @@ def started(scene, out, args, rows=60):
     return p
 
 
+def ended(p):
+    """(stdout, stderr) of a run sent a signal: it must end within 30 s (it is killed otherwise)."""
+    try:
+        return p.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise AssertionError("edp/run.sh still running 30 s after the signal")
+
+
 def assert_stopped_and_restartable(out, scene, args, steps, extra=()):
     """No process left in OUT, no summary, the lock released, complete rows up to past the last checkpoint;
     -restart OUT continues the run to T."""
@@ -241,11 +250,7 @@ def test_a_signal_to_run_sh_stops_freefem_and_leaves_a_restartable_run(tmp_path,
     out = tmp_path / "out"
     p = started(scene, out, args)
     p.send_signal(sig)
-    try:
-        _, err = p.communicate(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    _, err = ended(p)
     assert p.returncode == -sig, (p.returncode, err)
     assert not [line for line in err.splitlines() if line.startswith("error:")], err
     assert_stopped_and_restartable(out, scene, args, steps, extra=args[:2] if scene == "ball" else ())
@@ -265,11 +270,7 @@ def test_a_signal_to_freefem_itself_is_reported_as_a_kill(tmp_path, process, run
     p = started(scene, out, args)
     pid = next(pid for pid in processes_of(out) if open(f"/proc/{pid}/comm").read().strip() == process[:15])
     os.kill(pid, signal.SIGTERM)
-    try:
-        _, err = p.communicate(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    _, err = ended(p)
     lines = [line for line in err.splitlines() if line.startswith("error:")]
     assert p.returncode == status and len(lines) == 1 and lines[0].startswith(f"error: {says}"), err
     assert lines[0].endswith(f"; history.csv keeps every complete step and checkpoint.txt the last checkpoint: edp/run.sh "
@@ -304,11 +305,7 @@ def test_a_signal_to_mpirun_as_the_run_reaches_t_leaves_a_complete_run(tmp_path)
     for pid in processes_of(out):
         if open(f"/proc/{pid}/comm").read().strip() == "mpirun":
             os.kill(pid, signal.SIGTERM)
-    try:
-        stdout, err = p.communicate(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        raise AssertionError("edp/run.sh still running 30 s after the signal")
+    stdout, err = ended(p)
     assert p.returncode == 0 and not [line for line in err.splitlines() if line.startswith("error:")], (stdout, err)
     assert (out / "summary.txt").exists() and history_rows(out / "history.csv") == 121 + 1
     assert not processes_of(out) and (out / ".lock").read_text() == ""
