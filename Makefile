@@ -45,7 +45,7 @@ $(foreach g,$(filter test1 test2 ball paper all figures,$(GOALS)),$(info note: m
 $(foreach g,$(filter run animation check,$(GOALS)),$(info note: make $(g) runs one thing at a time; JOBS=$(JOBS) is not used))
 endif
 
-EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*.idp edp/lib/*.awk edp/lib/*.sh edp/lib/*.txt)
+EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*/*.idp edp/lib/*/*.awk edp/lib/*/*.sh edp/lib/*/*.txt edp/lib/*/*.opt)
 RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh

@@ -12,7 +12,7 @@
 #     run ends, however it ends; it names its holder;
 #   - an earlier run in OUT is replaced only with FORCE=1 (or by its own restart);
 #   - FreeFEM runs in OUT/.staging and checks everything there (options, scene,
-#     mesh, initial state, checkpoint); then edp/lib/commit.sh moves its first
+#     mesh, initial state, checkpoint); then edp/lib/io/commit.sh moves its first
 #     files into OUT over the earlier run's, and the run goes on in OUT.
 # Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug),
 # 2 usage, 3 refused before the first step, 4 a step failed, 5 factorisation,
@@ -138,7 +138,7 @@ fi
 # read here, as the driver will read them: the scene's lines `order = N;` and `material = "NAME";`,
 # the restarted run's parameters.txt, then -order and -material on the command line.
 # contact.edp checks that they agree. A run compiles only its material's file.
-order=1 material=linear     # (parameters.idp's defaults)
+order=1 material=linear     # (run/parameters.idp's defaults)
 # the scene without its comments (// to the end of a line, /* ... */ across lines), as FreeFEM reads it
 scene_code() {
   awk '{ line = $0; out = ""
@@ -176,30 +176,30 @@ for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
   if [ "${args[i]}" = -mesh ]; then case "${args[i + 1]}" in /*) mesh_file=${args[i + 1]} ;; *) mesh_file=$PWD/${args[i + 1]} ;; esac; fi
 done
 dimension=2
-[ -r "$mesh_file" ] && awk -f "$here/lib/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
+[ -r "$mesh_file" ] && awk -f "$here/lib/body/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
 # as an integer (02 is 2); not one: 0, and the driver refuses -order itself
 if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 fe=P1
 [ "$order" = 2 ] && fe=P2
-# the materials: edp/lib/materials.txt, one line each (NAME, then how this error names it);
-# -material NAME is edp/lib/material_NAME.idp
-materials=$here/lib/materials.txt
+# the materials: edp/lib/material/materials.txt, one line each (NAME, then how this error names it);
+# -material NAME is edp/lib/material/NAME.idp
+materials=$here/lib/material/materials.txt
 if ! MATERIAL=$material awk '!/^#/ && NF && $1 == ENVIRON["MATERIAL"] { found = 1 } END { exit !found }' "$materials"; then
   choices=$(awk '!/^#/ && NF { e = $1; if (NF > 1) { t = $0; sub(/^[ \t]*[^ \t]+[ \t]+/, "", t); e = e " (" t ")" } a[n++] = e }
                  END { s = a[0]; for (i = 1; i < n; i++) s = s (i == n - 1 ? " or " : ", ") a[i]; print s }' "$materials")
   err "-material must be $choices; got '$material'"
 fi
-# 3D (issue 25): a material's 3D kinematics live in material_NAME3.idp (the linear one's in the dimension files)
-material_file=material_$material.idp
+# 3D: a material's 3D kinematics live in material/NAME_3d.idp (the linear one's in the dimension files)
+material_file=material/$material.idp
 if [ "$dimension" = 3 ] && [ "$material" != linear ]; then
-  material_file=material_${material}3.idp
+  material_file=material/${material}_3d.idp
   [ -f "$here/lib/$material_file" ] ||
     err "-material $material is not supported on a 3D body yet (the mesh $mesh_file has tetrahedra): use -material linear or neohookean"
 fi
-[ -f "$here/lib/material_$material.idp" ] || err "edp/lib/materials.txt lists -material $material, but edp/lib/material_$material.idp is missing" 1
+[ -f "$here/lib/material/$material.idp" ] || err "edp/lib/material/materials.txt lists -material $material, but edp/lib/material/$material.idp is missing" 1
 processes=serial
 [ -n "$np" ] && processes=mpi
-{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension, -np)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/processes_%s.idp"\ninclude "lib/dimension%s.idp"\n' \
+{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension, -np)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/run/processes_%s.idp"\ninclude "lib/dimension/%sd.idp"\n' \
     "$order" "$fe" "$material" "$processes" "$dimension" > "$stage/compiled.idp" &&
   printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
     "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
@@ -211,9 +211,9 @@ sb yes
 bound_relax_factor 0
 OPT
 
-# ---- FreeFEM, in the staging directory (commit.sh moves it on into OUT)
+# ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
 export FF_LOADPATH=/usr/lib/freefem++
-# (edp/ too: the staged compiled_material.idp includes lib/material_NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
+# (edp/ too: the staged compiled_material.idp includes lib/material/NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
 # misreads a '\' in it, so its entries hold no path of the user's: they are relative to the staging directory, FreeFEM's
 # working directory, where .edp is a link to edp/
 ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
@@ -245,7 +245,7 @@ raw=/dev/null
 [ -n "${CONTACT_DEBUG:-}" ] && raw=/dev/stderr
 # -np N: mpirun tags every line with its process ("[1,r]<stdout>:"); the filter keeps process 0's lines (every
 # process runs the same checks, so its errors are everyone's) and, from any process, its status line
-# "exit-status N" (options.idp) and FreeFEM's own error traces. A process that stops alone leaves the others
+# "exit-status N" (run/options.idp) and FreeFEM's own error traces. A process that stops alone leaves the others
 # waiting in MPI for ever (FreeFEM's exit waits in MPI_Finalize): once the filter has seen one of those lines
 # (it writes $errfile.stop), the others get 5 s to end too, then mpirun is stopped, and the status is the one
 # the process gave (docs/parallel.md).
@@ -338,7 +338,7 @@ for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
   { next }
   END { newline()
         if (compile) exit 3
-        # the files the run writes (output.idp, contact.edp): a failed open is a failed write
+        # the files the run writes (io/output.idp, contact.edp): a failed open is a failed write
         if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
           print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
         if (opened != "" && detail == "") detail = "cannot open " opened
@@ -364,13 +364,13 @@ keep_complete_rows() {
     truncate -s $(($(stat -c %s "$out/history.csv") - partial)) "$out/history.csv"
   fi
 }
-# A restart into its own directory kept the run's files aside (commit.sh): if it stopped before it went past the
+# A restart into its own directory kept the run's files aside (io/commit.sh): if it stopped before it went past the
 # run's last row, they are put back whole (the restart's own files removed); otherwise its history supersedes them.
 settle_kept() {
   local kept=$out/.restart_kept
   [ -d "$kept" ] || return 0
   if [ "$1" != 0 ] && [ "$(wc -l < "$out/history.csv" 2>/dev/null || echo 0)" -le "$(wc -l < "$kept/history.csv" 2>/dev/null || echo 0)" ]; then
-    (cd "$stage" && sh "$here/lib/commit.sh" restore) >&2 || return 0     # (its error line; the kept files stay)
+    (cd "$stage" && sh "$here/lib/io/commit.sh" restore) >&2 || return 0     # (its error line; the kept files stay)
     echo "note: the restart stopped before it passed the run's last row: $out_arg holds the run as it was before it"
   fi
   rm -rf "$kept"

@@ -41,7 +41,7 @@ def read_parameters(run_dir):
 
 
 def energy_gain(h):
-    """The energy guard's measure (edp/lib/guards.idp) at every step: the modified energy's gain over
+    """The energy guard's measure (edp/lib/watch/guards.idp) at every step: the modified energy's gain over
     its start, (m - m0) / S, S = max(|m0|, E0, max_k |(f, u^k - u^0)|) with (f, u) = E - m."""
     e, m = h["energy"], h["modified_energy"]
     work = e - m
@@ -58,7 +58,7 @@ def error_lines(text):
 
 
 def guard_stop(text):
-    """(step, t, gain in %) of a run the energy guard stopped (edp/lib/guards.idp): its output's one error
+    """(step, t, gain in %) of a run the energy guard stopped (edp/lib/watch/guards.idp): its output's one error
     line is "error: the modified energy grew from A to B by step N (t = X), G% of ..."; None otherwise."""
     lines = error_lines(text)
     m = GUARD_RE.match(lines[0]) if len(lines) == 1 else None
@@ -71,7 +71,7 @@ THROUGH_RE = re.compile(r"^error: the body passed through the foundation at step
 
 def through_stop(text):
     """(step, t, depth, depth in % of the body's size) of a run stopped because its boundary outside Gamma_C went
-    through the foundation (edp/lib/guards.idp): its output's one error line is "error: the body passed through the
+    through the foundation (edp/lib/watch/guards.idp): its output's one error line is "error: the body passed through the
     foundation at step N (t = X): its boundary vertex ..., is D below it, P% of the body's size ..."; None otherwise."""
     lines = error_lines(text)
     m = THROUGH_RE.match(lines[0]) if len(lines) == 1 else None

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """An independent numpy + scipy implementation of the 3D mid-point scheme (1)-(2) of Murea (2023) with the
 linearised obstacle constraint (10), each step's QP (4) solved exactly by the primal-dual active-set
-iteration of edp/lib/contact_solver.idp (solveStepActiveSet): a benchmark reference for, and a cross-check
+iteration of edp/lib/contact/solver.idp (solveStepActiveSet): a benchmark reference for, and a cross-check
 of, the FreeFEM driver (edp/contact.edp with -solver activeset, -mass consistent, -material linear,
 -scheme midpoint, -skip_free 1) on the scene `ball` (docs/3d.md) or any ball-like P1 tetrahedral body over
 the flat, fixed foundation X3 = 0.
@@ -20,9 +20,9 @@ The discretisation, exactly as the driver's:
     S_jj = 1 for unknown columns), warm-started from the previous step's set, x = x_free - A^-1 C' lm;
   - v^{n+1} = 2 (x - u^n) / dt - v^n, u^{n+1} = x; u^0 = (0, 0, u0z), v^0 = 0;
   - history: u3 at the reference node (the vertex of Gamma_C with the smallest X3, ties towards the axis
-    X1 = X2 = 0: the ball's lowest point (0, 0, 0)), the energy E = v'Mv / 2 + u'Ku / 2 (material.idp,
-    discreteEnergy), the modified energy E - F'u (output.idp), the active nodes
-    (lm_j > 1e-6 int_{Gamma_C} phi_j, output.idp countActive) and whether the step solved the QP.
+    X1 = X2 = 0: the ball's lowest point (0, 0, 0)), the energy E = v'Mv / 2 + u'Ku / 2 (material/interface.idp,
+    discreteEnergy), the modified energy E - F'u (io/output.idp), the active nodes
+    (lm_j > 1e-6 int_{Gamma_C} phi_j, io/output.idp countActive) and whether the step solved the QP.
 
 Use: /usr/bin/python3 postprocess/scipy_midpoint.py --mesh meshes/ball.msh --T 120 --dt 0.05 --out history.csv
 or, from another script, run(mesh, T, dt, ...) (returns the history arrays and the timings).
@@ -40,8 +40,8 @@ import scipy.sparse.linalg as spla
 # the scene `ball` (edp/scenes/ball.idp and the driver's defaults)
 BALL = dict(rho=1.0, lam=30.0, mu=30.0, fz=-0.1, u0z=4.0, dt=0.05, T=120.0)
 HISTORY_COLUMNS = ("step", "t", "u3_low", "energy", "active_nodes", "qp_solved")
-ACTIVE_PRESSURE = 1e-6          # output.idp: a node is active when lm_j > 1e-6 int_{Gamma_C} phi_j
-MAX_ACTIVE_SET_ITERATIONS = 100  # contact_solver.idp, activeSetMaxIterations
+ACTIVE_PRESSURE = 1e-6          # io/output.idp: a node is active when lm_j > 1e-6 int_{Gamma_C} phi_j
+MAX_ACTIVE_SET_ITERATIONS = 100  # contact/solver.idp, activeSetMaxIterations
 
 
 # ---- mesh
@@ -120,7 +120,7 @@ def assemble(xyz, tets, rho, lam, mu, fz):
 
 
 def contact_weights(xyz, tris):
-    """int_{Gamma_C} phi_j at every vertex (forms.idp, vContactWeight): a third of each triangle's area."""
+    """int_{Gamma_C} phi_j at every vertex (scheme/midpoint.idp, vContactWeight): a third of each triangle's area."""
     a, b, c = (xyz[tris[:, i]] for i in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     w = np.zeros(len(xyz))
@@ -129,7 +129,7 @@ def contact_weights(xyz, tris):
 
 
 def reference_vertex(xyz, contact):
-    """space.idp: the vertex of Gamma_C with the smallest X3, ties (1e-9 of the size) broken towards the axis."""
+    """body/space.idp: the vertex of Gamma_C with the smallest X3, ties (1e-9 of the size) broken towards the axis."""
     size = max(1.0, np.ptp(xyz, axis=0).max())
     tie = 1e-9 * size
     low = xyz[contact, 2].min()
@@ -184,7 +184,7 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
     ref = reference_vertex(xyz, contact)
     kkt_tol = 1e-9 * max(1.0, np.abs(g).max())
 
-    # S = C A^-1 C' = P_z' A^-1 P_z: its known columns, S_jj = 1 for the others (contact_solver.idp)
+    # S = C A^-1 C' = P_z' A^-1 P_z: its known columns, S_jj = 1 for the others (contact/solver.idp)
     S = np.zeros((nc, nc))
     S_diag = np.ones(nc)
     known = np.zeros(nc, dtype=bool)

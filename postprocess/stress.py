@@ -137,10 +137,10 @@ FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast d
         # Neo-Hookean: v0y -5 (where SVK breaks at t = 0.95) must complete
         "neohookean v0y -5": "20"}
 BREAK_RE = re.compile(r"^error: newton failed at step (\d+), t = ([-+0-9.eE]+): (.*)$")
-GUARD_STOP = 0.1          # the energy guard's bound (edp/lib/guards.idp)
+GUARD_STOP = 0.1          # the energy guard's bound (edp/lib/watch/guards.idp)
 # cases whose body may pass through the foundation beside Gamma_C (the docstring)
 THROUGH = {"v0y -10", "neohookean soft lambda = mu = 3", "ball soft Neo-Hookean lambda = mu = 3"}
-THROUGH_FRACTION = 0.05   # the bound of that stop, of the body's size (edp/lib/guards.idp)
+THROUGH_FRACTION = 0.05   # the bound of that stop, of the body's size (edp/lib/watch/guards.idp)
 
 
 def is_svk(name):

@@ -28,7 +28,7 @@ RUNS_3D = {
     "lumped": ("ball", ["-mass", "lumped", "-T", "14", "-solver", "activeset"] + QUIET),
     "singular": ("ball", ["-mass", "singular", "-T", "14", "-solver", "activeset"] + QUIET),
     "penalty": ("ball", ["-contact", "penalty", "-T", "14"] + QUIET),
-    # the Neo-Hookean body (material_neohookean3.idp): a spinning, drifting free flight, and Test 1 in 3D
+    # the Neo-Hookean body (material/neohookean_3d.idp): a spinning, drifting free flight, and Test 1 in 3D
     "nh_spin": ("ball", ["-material", "neohookean", "-foundation", "none", "-fz", "0", "-u0z", "0", "-v0x", "0.1",
                          "-spin", "0.05", "-T", "10"] + QUIET),
     "nh_impact": ("ball", ["-material", "neohookean", "-T", "20"] + QUIET),
@@ -154,7 +154,7 @@ def test_constraint_10_holds_at_every_contact_node(h3, runs3d):
 def test_activeset_and_ipopt_agree(h3, exact, ipopt):
     """The same QP (4) solved exactly (active set) and by IPOPT to tol 1e-10 give the same motion, on the flat
     foundation and on the moving one, where both slopes psi_X1, psi_X2 are non-zero and the active set's
-    Schur complement uses all nine blocks (contact_solver.idp)."""
+    Schur complement uses all nine blocks (contact/solver.idp)."""
     a, b = h3[exact], h3[ipopt]
     n = len(b["t"])
     a = {k: v[:n] for k, v in a.items()}

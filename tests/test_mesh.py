@@ -1,6 +1,6 @@
 """The disk mesh of meshes/disk.geo against the paper (Section 4.1), and every mesh
 defect refused with exit 3 and one line naming the file and the defect, before
-gmshload reads it (edp/lib/check_mesh.awk), with an earlier run byte-identical."""
+gmshload reads it (edp/lib/body/check_mesh.awk), with an earlier run byte-identical."""
 import os
 import subprocess
 

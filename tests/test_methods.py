@@ -29,7 +29,7 @@ def assert_tends_to_the_constraint_at_first_order(histories, prefix, parameters)
         assert 8 < diff[k] / diff[k + 1] < 12, f"{prefix}: difference from the constraint {diff}"
 
 
-# ---- penalty: the step A x + C' lm(x) = L, lm = kappa [C x - g]_+ (contact_penalty.idp)
+# ---- penalty: the step A x + C' lm(x) = L, lm = kappa [C x - g]_+ (contact/penalty.idp)
 
 def test_penalty_tends_to_the_constraint_linearly_in_eps(histories):
     """As eps -> 0 the penalty step tends to the QP (4) under (10): on the disk resting under
@@ -63,7 +63,7 @@ def test_penalty_does_not_create_energy_over_an_impact(histories):
     assert np.abs(np.diff(after)).max() < 1e-10 * before      # and conserved again in flight
 
 
-# ---- mass matrices (mass.idp, mass_singular.idp)
+# ---- mass matrices (mass/matrix.idp, mass/singular.idp)
 
 @pytest.mark.parametrize("mass", ["lumped", "singular"])
 def test_free_flight_conserves_energy_and_momentum_with_any_mass(histories, mass):
@@ -172,14 +172,14 @@ def test_restart_reproduces_the_run(tmp_path, scene, opts, horizons):
 
 def test_singular_mass_refused_when_it_cannot_stay_positive_definite(tmp_path, earlier_run):
     """The thin cantilever's 21 contact vertices hold too much of its mass: moving it changes M's
-    entries by more than the 1/4 that guarantees a positive definite M (mass_singular.idp)."""
+    entries by more than the 1/4 that guarantees a positive definite M (mass/singular.idp)."""
     p, changed = refused_into_copy(tmp_path, earlier_run, "cantilever", ["-mass", "singular", "-T", "1", "-snapshots", "none", "-progress", "0"])
     lines = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(lines) == 1 and "beyond the 1/4 that keeps it positive definite" in lines[0], p.stderr
     assert not changed
 
 
-# ---- schemes: Newmark (scheme_newmark.idp), explicit Verlet (scheme_verlet.idp)
+# ---- schemes: Newmark (scheme/newmark.idp), explicit Verlet (scheme/verlet.idp)
 
 @pytest.mark.parametrize("name", ["newmark_freeflight", "verlet_freeflight"])
 def test_free_flight_momentum_and_energy_for_every_scheme(histories, name):
@@ -267,7 +267,7 @@ def test_verlet_runs_at_p2(histories):
     assert np.isfinite(h["u2_low"]).all() and h["active_nodes"].max() > 0
 
 
-# ---- Nitsche (contact_nitsche.idp)
+# ---- Nitsche (contact/nitsche.idp)
 
 def test_nitsche_tends_to_the_constraint_as_gamma0_grows(histories):
     """gamma = gamma0 / h -> infinity: Nitsche's step tends to the QP (4) under (10), the penetration

@@ -1,4 +1,4 @@
-"""The Neo-Hookean material (issue 18; edp/lib/material_neohookean.idp), checked on its own: the
+"""The Neo-Hookean material (issue 18; edp/lib/material/neohookean.idp), checked on its own: the
 Gonzalez discrete gradient and its consistent tangent at random states, and -material neohookean
 in the driver: the paper's Test 1 and Test 2 to T = 120 (past SVK's collapse), a spinning free
 flight and its order in dt, impacts without load, the small-strain limit, P2, golden files, a
@@ -95,7 +95,7 @@ def test_neohookean_energy_never_increases_without_load(histories, name):
     """Prop. 2 with the discrete gradient, f = 0, foundation fixed or lowered (u^n in K^{n+1}): the
     energy rho/2 |v|^2 + int W does not increase in any step, up to the Newton tolerance; there is
     contact, and J stays > 0. (The body is back at its reference position exactly when it touches,
-    at t = 2: there |x| vanishes, and Newton's round-off floor must not (newton_solver.idp).)"""
+    at t = 2: there |x| vanishes, and Newton's round-off floor must not (solve/newton.idp).)"""
     h = histories[name]
     e = h["energy"]
     assert h["active_nodes"].max() > 0, f"{name}: the disk never touches the foundation"

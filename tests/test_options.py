@@ -246,27 +246,28 @@ def test_scene_material_not_in_the_table_or_unreadable_is_refused(tmp_path, earl
 
 
 def test_every_material_of_the_table_has_its_file():
-    """edp/lib/materials.txt and the files edp/lib/material_NAME.idp agree (docs/internals.md,
-    "Adding a material"); a material's 3D kinematics, material_NAME3.idp, belong to a NAME of the table."""
+    """edp/lib/material/materials.txt and the files edp/lib/material/NAME.idp agree (docs/internals.md,
+    "Adding a material"); a material's 3D kinematics, material/NAME_3d.idp, belong to a NAME of the table."""
     lib = os.path.join(ROOT, "edp", "lib")
-    table = [line.split()[0] for line in open(os.path.join(lib, "materials.txt"))
+    table = [line.split()[0] for line in open(os.path.join(lib, "material/materials.txt"))
              if line.strip() and not line.startswith("#")]
-    files = sorted(f[len("material_"):-len(".idp")] for f in os.listdir(lib) if f.startswith("material_") and f.endswith(".idp"))
-    plane = [f for f in files if f not in {name + "3" for name in table}]
-    assert "linear" in table and sorted(table) == plane      # (linear: the default of parameters.idp and run.sh)
-    assert "neohookean3" in files
+    files = sorted(f[:-len(".idp")] for f in os.listdir(os.path.join(lib, "material"))
+                   if f.endswith(".idp") and f != "interface.idp")
+    plane = [f for f in files if f not in {name + "_3d" for name in table}]
+    assert "linear" in table and sorted(table) == plane      # (linear: the default of run/parameters.idp and run.sh)
+    assert "neohookean_3d" in files
 
 
 def test_a_run_compiles_only_its_material(tmp_path):
-    """A run pays only for what it asks for: -material linear compiles neither material_svk.idp
-    nor newton_solver.idp, and -material svk not material_linear.idp. In a copy of edp/ whose
+    """A run pays only for what it asks for: -material linear compiles neither material/svk.idp
+    nor solve/newton.idp, and -material svk not material/linear.idp. In a copy of edp/ whose
     other files are broken, each material still runs."""
     shutil.copytree(os.path.join(ROOT, "edp"), tmp_path / "edp")
     os.symlink(os.path.join(ROOT, "meshes"), tmp_path / "meshes")
     lib = tmp_path / "edp" / "lib"
-    for material, others in [("linear", ["material_svk.idp", "material_neohookean.idp", "newton_solver.idp"]),
-                             ("svk", ["material_linear.idp", "material_neohookean.idp"]),
-                             ("neohookean", ["material_linear.idp", "material_svk.idp"])]:
+    for material, others in [("linear", ["material/svk.idp", "material/neohookean.idp", "solve/newton.idp"]),
+                             ("svk", ["material/linear.idp", "material/neohookean.idp"]),
+                             ("neohookean", ["material/linear.idp", "material/svk.idp"])]:
         kept = {f: (lib / f).read_text() for f in others}
         for f in others:
             (lib / f).write_text("this is not FreeFEM;\n")

@@ -14,7 +14,7 @@ from conftest import ROOT, error_lines, refused_into_copy, run_scene
 from history import energy_gain as guard_measure, read_csv, read_summary
 
 QUIET = ["-progress", "0", "-snapshots", "none"]
-# the energy guard's fractions of the run's energy S (edp/lib/guards.idp)
+# the energy guard's fractions of the run's energy S (edp/lib/watch/guards.idp)
 STOP, WARN = 0.1, 0.01
 
 
@@ -37,7 +37,7 @@ def assert_stopped_by_the_guard(p, out, *words):
     return h, line
 
 
-# ---- 1-3: energy gains where Prop. 2 allows none (guards.idp)
+# ---- 1-3: energy gains where Prop. 2 allows none (watch/guards.idp)
 
 def test_nitsche_theta0_that_gains_energy_stops_with_its_condition(tmp_path):
     """Item 1. theta = 0 at gamma0 = 31, just above its bound (1 + theta)^2 C / 4 = 30.2, ran Test 1
@@ -191,9 +191,9 @@ def test_a_body_that_passes_through_the_foundation_stops(tmp_path):
     assert "use a larger -nitsche_gamma0 (1000 here)" in errors[0]
 
 
-# ---- issue 32, item 1: the body through the foundation beside Gamma_C (guards.idp, throughGuardStep)
+# ---- issue 32, item 1: the body through the foundation beside Gamma_C (watch/guards.idp, throughGuardStep)
 
-THROUGH = 0.05      # of the body's size L: deeper, the run stops (edp/lib/guards.idp)
+THROUGH = 0.05      # of the body's size L: deeper, the run stops (edp/lib/watch/guards.idp)
 
 
 def assert_through(p, out, size, *words):

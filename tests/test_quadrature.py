@@ -38,7 +38,7 @@ def test_vertex_is_the_default_and_the_rule_is_recorded(runs):
 def test_the_point_penalty_on_the_vertex_rule_is_the_schur_penalty(tmp_path, histories):
     """The gauss penalty is Nitsche's point machinery with U = the rows of (10) at the points, gamma =
     1/eps, S = 0: N(x) = U' diag(omega / eps) [U x - g]_+. On the vertex rule (a test hook routes the
-    vertex penalty through it) that is contact_penalty.idp's A x + C' kappa [C x - g]_+ = L with
+    vertex penalty through it) that is contact/penalty.idp's A x + C' kappa [C x - g]_+ = L with
     kappa_j = w_j / eps, solved there on the Schur complement: the same run to round-off (measured
     4e-13 in u, 3e-12 relative in the multipliers), multipliers included (lm_j = sum_q omega_q [.]_+q / eps)."""
     out = tmp_path / "hook"
