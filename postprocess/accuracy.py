@@ -313,7 +313,8 @@ def save_study(out, fig, figure_stem, md_name, md):
 
 def p2_study(out, reuse):
     """P1 and P2 on the mesh sequence at dt = P2_DT against P2 on P2_REFERENCE; returns the lines of p2.md."""
-    measured = measured_rows(os.path.join(out, "p2_table.csv"), reuse)
+    path = os.path.join(out, "p2_table.csv")
+    measured = measured_rows(path, reuse)
     runs, failed = {}, {}
     for n, (name, (order_, mesh, dt)) in enumerate(P2_CASES.items()):
         d = os.path.join(out, name)
