@@ -60,7 +60,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from bench import ROOT, run_case  # noqa: E402
+from driver import ROOT, case_row as run_case  # noqa: E402
 from history import contact_intervals, read_run, read_summary  # noqa: E402
 from methods import RUNNING_METHODS as METHODS  # noqa: E402 (the classical Newmark stops: not timed)
 

@@ -47,17 +47,15 @@ import functools
 import math
 import os
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
+from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import read_run, read_summary  # noqa: E402
 from mesh_counts import msh22_read  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 SCENE = os.path.join(ROOT, "edp", "scenes", "hertz.idp")
 
 # the ball of meshes/ball.geo and hertz.geo, and the scene's material
@@ -293,19 +291,16 @@ def run_case(out, scene, case):
     h = case_hertz(case)
     dt, steps = time_grid(h, n)
     run_dir = os.path.join(out, case)
-    cmd = [RUN, scene, run_dir, "-progress", "0", "-mesh", MESHES[mesh], SPEED_OPTION, f"{-h['v0']:.10g}",
-           "-dt", repr(dt), "-T", f"{steps * dt:.12g}", "-lambda", f"{LAMBDA:g}", "-mu", f"{MU:g}", "-rho", f"{RHO:g}",
-           "-solver", "activeset", "-snapshots", "none"] + (["-mass", mass] if mass else [])
-    start = time.time()
-    p = jobs.run(cmd, cwd=ROOT, env=dict(os.environ, FORCE="1"))
-    with open(os.path.join(out, f"{case}.log"), "w") as f:
-        f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
+    args = ["-progress", "0", "-mesh", MESHES[mesh], SPEED_OPTION, f"{-h['v0']:.10g}",
+            "-dt", repr(dt), "-T", f"{steps * dt:.12g}", "-lambda", f"{LAMBDA:g}", "-mu", f"{MU:g}", "-rho", f"{RHO:g}",
+            "-solver", "activeset", "-snapshots", "none"] + (["-mass", mass] if mass else [])
+    p = run_driver(scene, run_dir, args, log=os.path.join(out, f"{case}.log"), cwd=ROOT)
     if p.returncode != 0 or not os.path.exists(os.path.join(run_dir, "summary.txt")):
         line = (p.stderr.strip().splitlines() or ["no message"])[-1]
         if mass is None:
             raise Failure(f"hertz {case} failed (exit {p.returncode}; see {case}.log): {line}")
-        return case, time.time() - start, f"exit {p.returncode}: {line}"
-    return case, time.time() - start, None
+        return case, p.wall, f"exit {p.returncode}: {line}"
+    return case, p.wall, None
 
 
 def analyse(out, case):

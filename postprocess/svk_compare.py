@@ -29,10 +29,9 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
+from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import contact_intervals, read_csv, read_freefem_mesh, read_parameters, read_run, read_summary  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 MODELS = ("linear", "svk", "neohookean")
 MODEL_ARGS = {"linear": ["-solver", "activeset"], "svk": ["-material", "svk"],
               "neohookean": ["-material", "neohookean"]}
@@ -70,13 +69,9 @@ def run_one(out, case, model):
     extra = list(MODEL_ARGS[model])
     if case == "spin" and model == "linear":
         extra = []                       # no foundation: no QP, -solver would only draw a warning
-    cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0"] + extra + args
-    t0 = time.perf_counter()
-    p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
-    wall = time.perf_counter() - t0
-    with open(os.path.join(out, case, f"{model}.log"), "w") as f:
-        f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
-    res = {"case": case, "model": model, "dir": run_dir, "wall": wall, "rc": p.returncode, "broke": None}
+    p = run_driver(scene, run_dir, ["-progress", "0", "-vtk", "0"] + extra + args, log=os.path.join(out, case, f"{model}.log"),
+                   cwd=ROOT)
+    res = {"case": case, "model": model, "dir": run_dir, "wall": p.wall, "rc": p.returncode, "broke": None}
     if p.returncode == 0 and os.path.exists(os.path.join(run_dir, "summary.txt")):
         return res
     err = " ".join(line.strip() for line in p.stderr.splitlines() if line.startswith("error")) or p.stderr.strip()

@@ -10,9 +10,10 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "postprocess"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "reference"))     # scipy_midpoint
 
 from history import read_run  # noqa: E402
-from stress import FAST, case_args, may_break  # noqa: E402
+from stress_cases import FAST, case_args, may_break  # noqa: E402
 
 RUN = os.path.join(ROOT, "edp", "run.sh")
 
@@ -168,7 +169,7 @@ for _s in SMALL_LOADS:
     for _m in ("svk", "neohookean", "linear"):
         RUNS[f"rest_{_m}_{_s}"] = ("test1", ["-material", _m, "-u0y", "0", "-fy", f"{-0.1 * _s:g}", "-T", "10",
                                              "-probes", "0,40"] + (["-solver", "activeset"] if _m == "linear" else []))
-# the fast subset of make stress (postprocess/stress.py)
+# the fast subset of make stress (postprocess/stress_cases.py)
 RUNS.update({f"stress: {name}": case_args(name, horizon) for name, horizon in FAST.items()})
 # runs allowed to stop with exit 4 (an SVK stress case that may collapse); the
 # stress test then accepts it only as the clean break (postprocess/stress.py)
