@@ -25,7 +25,7 @@ St Venant-Kirchhoff (-material svk, paper Section 3), on the paper's mesh:
 P2 against refining P1 (-order 2; p2.md): Test 1 to T = 40, activeset, at the
 h-study's dt = 0.0125, with P1 and with P2 on the coarse, paper, fine, refine-4
 and refine-8 meshes, the top vertex (0, 40) as a probe (-probes 0,40). Every run
-against P2 on the refine-8 mesh (the most accurate run, about 13 min), on windows:
+against P2 on the refine-8 mesh (the most accurate run), on windows:
 free fall (t <= 8.8, a rigid motion: round-off), the first contact (8.8 < t <= 24,
 top vertex u2, since u2_low is pinned), the flight after it (u2_low) and the whole
 run (u2_low, the h-study's measure); wall/CPU seconds and memory of each run;

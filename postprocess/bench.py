@@ -20,14 +20,14 @@ ratios asked for:
   - every method of make methods (penalty, Nitsche, singular and lumped mass,
     Newmark, explicit Verlet) on Test 1: ms per step and wall time against
     the paper's method;
-  - the 3D ball (issue 25, docs/3d.md) on three meshes (ball.msh, ball_medium.msh, ball_refine4.msh):
+  - the 3D ball (docs/3d.md) on three meshes (ball.msh, ball_medium.msh, ball_refine4.msh):
     vertices, dofs, set-up, ms per step and peak memory of the active set, of the same run with no
     foundation, of IPOPT (on a ball that starts in contact), and of an independent scipy implementation
     of the same scheme (tests/reference/scipy_midpoint.py, SuperLU and cached Schur columns), with the
     aims "the active-set ball within 1.5x the no-foundation run at the largest size" and "a step at
     least 3x faster than scipy's", and how the cost grows with the vertices (--ball-only: these rows
     alone, into bench_ball.md and .csv);
-  - -np N (issue 26, docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
+  - -np N (docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
     87,684 vertices) on 1, 2 and 4 processes (4 oversubscribe the 2 cores) beside the serial direct solver:
     set-up, ms per step, solves and Krylov iterations per step, peak memory per process, the difference from
     the serial history, and parallel.png (--parallel-only: these rows alone, into bench_parallel.md and .csv).
@@ -98,9 +98,9 @@ def main():
     p.add_argument("--T", default="120", help="horizon of the Test 1 / Test 2 cases")
     p.add_argument("--repeat", type=int, default=3, help="runs of a case shorter than 10 s (median kept)")
     p.add_argument("--ball-only", action="store_true",
-                   help="only the 3D ball's cases (issue 25), into bench_ball.md and .csv (bench.md is left as it is)")
+                   help="only the 3D ball's cases, into bench_ball.md and .csv (bench.md is left as it is)")
     p.add_argument("--parallel-only", action="store_true",
-                   help="only the -np N cases (issue 26), into bench_parallel.md and .csv and parallel.png")
+                   help="only the -np N cases, into bench_parallel.md and .csv and parallel.png")
     p.add_argument("--meshes", help="with --parallel-only: only these of its meshes (comma-separated names, e.g. "
                    "ball,ball_medium)")
     p.add_argument("--nh-only", action="store_true",
@@ -271,7 +271,7 @@ def main():
     write_tables(a.out, "bench", rows, text)
 
 
-# ---- the 3D ball (issue 25): three meshes of the scene `ball` (Test 1 in 3D), T = BALL_T
+# ---- the 3D ball: three meshes of the scene `ball` (Test 1 in 3D), T = BALL_T
 BALL_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh"), ("ball_refine4", "meshes/ball_refine4.msh")]
 BALL_T = "20"      # the fall (first contact at t = 8.95), the impact and most of the rebound: 400 steps
 # IPOPT against the active set on the ball starting in contact at Test 1's impact speed sqrt(2 g 4) = 0.894,
@@ -285,7 +285,7 @@ BALL_AIM_FOUNDATION = 1.5    # the active-set ball within 1.5x the no-foundation
 BALL_AIM_SCIPY = 3           # a step at least 3x faster than the scipy implementation of the same scheme
 SCIPY = os.path.join(ROOT, "tests", "reference", "scipy_midpoint.py")
 # the scipy run's horizon: BALL_T, but T = 10 (the fall and the impact's first 22 steps) on the largest mesh, where
-# SuperLU takes about 3 min to factorise A and 1.2 s a step; the active set then also runs to that T beside it
+# SuperLU's factorisation and steps are the slowest; the active set then also runs to that T beside it
 SCIPY_T = {"ball": BALL_T, "ball_medium": BALL_T, "ball_refine4": "10"}
 
 
@@ -400,7 +400,7 @@ def ball_section(out_base, repeat):
     return csv_rows, "\n".join(lines)
 
 
-# ---- -np N (issue 26): the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
+# ---- -np N: the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
 # PARALLEL_T (50 steps on the small meshes, where 10 would be lost in the start-up's noise; 10 on the large ones),
 # on 1, 2 and 4 processes beside the serial direct solver
 PARALLEL_MESHES = BALL_MESHES + [("ball_refine6", "meshes/ball_refine6.msh")]
@@ -534,7 +534,7 @@ def write_tables(out, stem, rows, text):
             fh.write(",".join(str(r[k]) for k in keys) + "\n")
 
 
-NH_AIM = 1.5    # issue 18: a Neo-Hookean step at most 1.5x an SVK step on Test 1
+NH_AIM = 1.5    # a Neo-Hookean step at most 1.5x an SVK step on Test 1
 
 
 def nh_lines(by, svk_pairs, horizon, full):

@@ -1,5 +1,5 @@
 """`make methods`: the methods the paper measures itself against, side by side with its own
-(issue 17; docs/methods.md).
+(docs/methods.md).
 
 Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of MAKE_METHODS (METHODS, then
 QUADRATURE_METHODS), --jobs at a time (2), into OUT/<test>/<method>/, and writes into OUT/:

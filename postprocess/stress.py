@@ -27,8 +27,8 @@ and history.csv intact (steps 0..N-1, all finite, no penetration, the energy
 bound on every recorded step). Any other failure of an svk case is a failure.
 The "neohookean ..." cases run the Neo-Hookean body (-material neohookean, Newton with
 Gonzalez's discrete gradient) on the four cases where SVK collapses (dt 1, v0y -5, the
-soft lambda = mu = 3, the fast drop). Their criteria, set before any of them was run
-(issue 18): every value finite; penetration <= 1e-8; min_J > 0 in every recorded step;
+soft lambda = mu = 3, the fast drop). Their criteria, set before any of them was run:
+every value finite; penetration <= 1e-8; min_J > 0 in every recorded step;
 and no energy gain at round-off level: the largest one-step rise of the modified energy
 at most NH_ROUNDOFF = 1e-12 of its size (the scheme is energy non-increasing with contact
 on a fixed foundation, and on the fast drop's lowered one the contact force does no

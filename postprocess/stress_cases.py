@@ -69,7 +69,7 @@ NEOHOOKEAN = ["dt 1", "v0y -5", "soft lambda = mu = 3", "fast drop t1 = t0 + 0.5
 for _name in NEOHOOKEAN:
     _scene, _args, _bound, _what = CASES[_name]
     CASES[f"neohookean {_name}"] = (_scene, ["-material", "neohookean"] + _args, "roundoff", f"{_what}, Neo-Hookean")
-# the 3D ball (issue 25, docs/3d.md): a fast drop, a large dt, a soft Neo-Hookean ball, the moving foundation
+# the 3D ball (docs/3d.md): a fast drop, a large dt, a soft Neo-Hookean ball, the moving foundation
 # dropping faster than the ball (the linear ones with the exact active set: IPOPT is 34x slower on ball.msh)
 BALL_CASES = {
     "ball dt 1": ("ball", ["-dt", "1", "-solver", "activeset"], "modified", "3D ball, large time step"),

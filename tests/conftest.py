@@ -54,7 +54,7 @@ RUNS = {
     "svk_f0_falling": ("test2", ["-material", "svk", "-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-t0", "2", "-t1", "8",
                                  "-T", "20"]),
 }
-# any body, any mesh (issue 11): Gamma_D, the new scenes, P2, CSM3 (tests/test_geometry.py)
+# any body, any mesh: Gamma_D, the new scenes, P2, CSM3 (tests/test_geometry.py)
 COARSE = os.path.join(ROOT, "meshes", "disk_coarse.msh")
 RUNS.update({
     "cantilever_activeset": ("cantilever", ["-T", "10", "-solver", "activeset", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
@@ -77,7 +77,7 @@ RUNS.update({
     "cantilever_svk_step": ("cantilever", ["-T", "10", "-material", "svk", "-probes", "0,1.5,10,1.5", "-snapshots", "5",
                                            "-newton_precond", "step"]),
 })
-# the methods of issue 17 (tests/test_methods.py): mass, contact enforcement
+# the methods of docs/methods.md (tests/test_methods.py): mass, contact enforcement
 REST = ["-u0y", "0", "-T", "10", "-probes", "0,40"]           # the disk resting on the foundation under gravity
 F0_IMPACT = ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "40"]   # f = 0: one impact and the rebound
 PENALTY_EPS = ("1e-2", "1e-3", "1e-4")
@@ -143,7 +143,7 @@ RUNS.update({
     "cantilever_penalty_gauss": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4",
                                                 "-probes", "0,1.5,10,1.5", "-snapshots", "5"] + GAUSS),
 })
-# the Neo-Hookean body (issue 18): the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
+# the Neo-Hookean body: the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
 # a spinning free flight, its dt-convergence, f = 0 impacts, P2
 NH = ["-material", "neohookean"]
 NH_SPIN_DTS = ("0.1", "0.05", "0.025")
