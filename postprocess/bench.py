@@ -20,14 +20,14 @@ ratios asked for:
   - every method of make methods (penalty, Nitsche, singular and lumped mass,
     Newmark, explicit Verlet) on Test 1: ms per step and wall time against
     the paper's method;
-  - the 3D ball (issue 25, docs/3d.md) on three meshes (ball.msh, ball_medium.msh, ball_refine4.msh):
+  - the 3D ball (docs/3d.md) on three meshes (ball.msh, ball_medium.msh, ball_refine4.msh):
     vertices, dofs, set-up, ms per step and peak memory of the active set, of the same run with no
     foundation, of IPOPT (on a ball that starts in contact), and of an independent scipy implementation
-    of the same scheme (postprocess/scipy_midpoint.py, SuperLU and cached Schur columns), with the
+    of the same scheme (tests/reference/scipy_midpoint.py, SuperLU and cached Schur columns), with the
     aims "the active-set ball within 1.5x the no-foundation run at the largest size" and "a step at
     least 3x faster than scipy's", and how the cost grows with the vertices (--ball-only: these rows
     alone, into bench_ball.md and .csv);
-  - -np N (issue 26, docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
+  - -np N (docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
     87,684 vertices) on 1, 2 and 4 processes (4 oversubscribe the 2 cores) beside the serial direct solver:
     set-up, ms per step, solves and Krylov iterations per step, peak memory per process, the difference from
     the serial history, and parallel.png (--parallel-only: these rows alone, into bench_parallel.md and .csv).
@@ -40,19 +40,15 @@ results/bench/bench.md and bench.csv (--nh-only: bench_neohookean.md and .csv;
 import argparse
 import json
 import os
-import subprocess
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from history import error_lines, guard_stop, read_run, read_summary  # noqa: E402
+from driver import ROOT, case_row, timed_process  # noqa: E402
+from history import read_run, read_summary  # noqa: E402
 from methods import RUNNING_METHODS as METHODS  # noqa: E402 (the classical Newmark stops: not timed)
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 
 
 def case_table(rows):
@@ -66,48 +62,11 @@ def case_table(rows):
     return lines
 
 
-def timed_process(cmd, **kwargs):
-    """cmd run to its end: (exit status, its output, wall seconds, its resource usage)."""
-    t0 = time.perf_counter()
-    p = jobs.start(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **kwargs)
-    try:
-        log = p.stdout.read()
-        # wait4: this case's own CPU time and peak memory, FreeFEM included (Linux counts reaped descendants)
-        _, status, usage = os.wait4(p.pid, 0)
-        p.returncode = os.waitstatus_to_exitcode(status)
-    finally:
-        jobs.finished(p)
-    return p.returncode, log, time.perf_counter() - t0, usage
-
-
-def run_case(out_base, name, scene, args, allow_stop=False):
-    """One run, timed. allow_stop: a run that the energy guard stops (exit 4, its one line; docs/errors.md)
-    is returned with that line as "stopped", not taken as a failure."""
-    out = os.path.join(out_base, name)
-    timed = {}
-
-    def launch(cmd):         # (with --np N: a run that -np refuses again on one process, jobs.run_processes)
-        timed["returncode"], timed["log"], timed["wall"], timed["usage"] = timed_process(cmd, env=dict(os.environ, FORCE="1"))
-        return subprocess.CompletedProcess(cmd, timed["returncode"], timed["log"], timed["log"])
-    jobs.run_processes([RUN, scene, out, "-progress", "0", "-snapshots", "none"] + args, launch)
-    returncode, log, wall, usage = timed["returncode"], timed["log"], timed["wall"], timed["usage"]
-    stopped = allow_stop and returncode == 4 and guard_stop(log) is not None
-    if returncode != 0 and not stopped:
-        sys.exit(f"bench case {name} failed:\n{log}")
-    h = read_run(out)
-    summary = read_summary(out) if not stopped else {}     # (a stopped run has no summary.txt)
-    steps = len(h["t"]) - 1
-    return {"case": name, "scene": scene, "args": " ".join(args), "wall_s": wall, "stopped": error_lines(log)[0] if stopped else "",
-            "cpu_s": usage.ru_utime + usage.ru_stime, "peak_MiB": usage.ru_maxrss / 1024, "steps": steps, "qp_steps": int(h["qp_solved"].sum()),
-            "ms_per_step": 1000 * wall / steps, "history": h, "log": log,
-            **{k: int(summary.get(k, 0)) for k in ("newton_iterations", "newton_retries", "gmres_iterations")}}
-
-
 def timed_case(out_base, name, scene, args, repeat, allow_stop=False):
-    """run_case, repeated when short: the median wall and CPU time, and their spread."""
-    runs = [run_case(out_base, name, scene, args, allow_stop)]
+    """case_row, repeated when short: the median wall and CPU time, and their spread."""
+    runs = [case_row(out_base, name, scene, args, allow_stop)]
     while runs[0]["wall_s"] < 10 and len(runs) < repeat:
-        runs.append(run_case(out_base, name, scene, args, allow_stop))
+        runs.append(case_row(out_base, name, scene, args, allow_stop))
     return median_row(runs)
 
 
@@ -119,7 +78,7 @@ def timed_group(out_base, group, repeat):
     for _ in range(repeat):
         for name, scene, args in group:
             print(f"bench: {name} ...", flush=True)
-            runs[name].append(run_case(out_base, name.replace(" ", "_").replace("=", ""), scene, args))
+            runs[name].append(case_row(out_base, name.replace(" ", "_").replace("=", ""), scene, args))
     return [dict(median_row(r), case=name) for name, r in runs.items()]
 
 
@@ -139,9 +98,9 @@ def main():
     p.add_argument("--T", default="120", help="horizon of the Test 1 / Test 2 cases")
     p.add_argument("--repeat", type=int, default=3, help="runs of a case shorter than 10 s (median kept)")
     p.add_argument("--ball-only", action="store_true",
-                   help="only the 3D ball's cases (issue 25), into bench_ball.md and .csv (bench.md is left as it is)")
+                   help="only the 3D ball's cases, into bench_ball.md and .csv (bench.md is left as it is)")
     p.add_argument("--parallel-only", action="store_true",
-                   help="only the -np N cases (issue 26), into bench_parallel.md and .csv and parallel.png")
+                   help="only the -np N cases, into bench_parallel.md and .csv and parallel.png")
     p.add_argument("--meshes", help="with --parallel-only: only these of its meshes (comma-separated names, e.g. "
                    "ball,ball_medium)")
     p.add_argument("--nh-only", action="store_true",
@@ -312,7 +271,7 @@ def main():
     write_tables(a.out, "bench", rows, text)
 
 
-# ---- the 3D ball (issue 25): three meshes of the scene `ball` (Test 1 in 3D), T = BALL_T
+# ---- the 3D ball: three meshes of the scene `ball` (Test 1 in 3D), T = BALL_T
 BALL_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh"), ("ball_refine4", "meshes/ball_refine4.msh")]
 BALL_T = "20"      # the fall (first contact at t = 8.95), the impact and most of the rebound: 400 steps
 # IPOPT against the active set on the ball starting in contact at Test 1's impact speed sqrt(2 g 4) = 0.894,
@@ -324,9 +283,9 @@ IMPACT_T = {"ball": "1", "ball_medium": "0.25", "ball_refine4": "0.05"}
 IMPACT_ACTIVE_T = {"ball": "2.5", "ball_medium": "2.5", "ball_refine4": "0.5"}
 BALL_AIM_FOUNDATION = 1.5    # the active-set ball within 1.5x the no-foundation run at the largest size
 BALL_AIM_SCIPY = 3           # a step at least 3x faster than the scipy implementation of the same scheme
-SCIPY = os.path.join(ROOT, "postprocess", "scipy_midpoint.py")
+SCIPY = os.path.join(ROOT, "tests", "reference", "scipy_midpoint.py")
 # the scipy run's horizon: BALL_T, but T = 10 (the fall and the impact's first 22 steps) on the largest mesh, where
-# SuperLU takes about 3 min to factorise A and 1.2 s a step; the active set then also runs to that T beside it
+# SuperLU's factorisation and steps are the slowest; the active set then also runs to that T beside it
 SCIPY_T = {"ball": BALL_T, "ball_medium": BALL_T, "ball_refine4": "10"}
 
 
@@ -335,15 +294,13 @@ def scipy_case(out_base, name, mesh, horizon):
     in its own process: its set-up and ms per step as it times them, its wall time and peak memory."""
     out = os.path.join(out_base, name)
     os.makedirs(out, exist_ok=True)
-    returncode, log, wall, usage = timed_process([sys.executable, SCIPY, "--mesh", os.path.join(ROOT, mesh), "--T", horizon,
-                                                  "--out", os.path.join(out, "history.csv"),
-                                                  "--json", os.path.join(out, "summary.json")])
-    if returncode != 0:
-        sys.exit(f"bench case {name} failed:\n{log}")
+    r = timed_process([sys.executable, SCIPY, "--mesh", os.path.join(ROOT, mesh), "--T", horizon,
+                       "--out", os.path.join(out, "history.csv"), "--json", os.path.join(out, "summary.json")], merge=True)
+    if r.returncode != 0:
+        sys.exit(f"bench case {name} failed:\n{r.stdout}")
     with open(os.path.join(out, "summary.json")) as fh:
         res = json.load(fh)
-    return dict(res, case=name, wall_s=wall, cpu_s=usage.ru_utime + usage.ru_stime,
-                peak_MiB=usage.ru_maxrss / 1024, history=read_run(out))
+    return dict(res, case=name, wall_s=r.wall, cpu_s=r.cpu_s, peak_MiB=r.peak_MiB, history=read_run(out))
 
 
 def ball_section(out_base, repeat):
@@ -406,7 +363,7 @@ def ball_section(out_base, repeat):
                      f"{act_ms:.2f} | {(f'{ip_ms / act_ms:.0f}' if act_ms > 0 else '-')} | {gap:.2g} |")
     def beside_scipy(mesh):      # the active-set run to the scipy run's horizon
         return f"ball {mesh} activeset" + ("" if SCIPY_T[mesh] == BALL_T else f" T={SCIPY_T[mesh]}")
-    lines += ["", "The same scheme in scipy (postprocess/scipy_midpoint.py: SuperLU, Schur columns cached; set-up and "
+    lines += ["", "The same scheme in scipy (tests/reference/scipy_midpoint.py: SuperLU, Schur columns cached; set-up and "
               "ms/step by its own timers, after reading the mesh), beside the active-set run to the same T:", "",
               "| mesh | T | scipy set-up s | scipy ms/step | scipy peak MiB | FreeFEM set-up s | FreeFEM ms/step | "
               "scipy / FreeFEM per step | max abs u3_low difference |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
@@ -443,7 +400,7 @@ def ball_section(out_base, repeat):
     return csv_rows, "\n".join(lines)
 
 
-# ---- -np N (issue 26): the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
+# ---- -np N: the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
 # PARALLEL_T (50 steps on the small meshes, where 10 would be lost in the start-up's noise; 10 on the large ones),
 # on 1, 2 and 4 processes beside the serial direct solver
 PARALLEL_MESHES = BALL_MESHES + [("ball_refine6", "meshes/ball_refine6.msh")]
@@ -514,20 +471,20 @@ def strategy_lines(only=None):
     active set as the driver's) for the scene ball to T = 20: the Schur columns gathered, or S never formed (CG
     on S_aa, one solve with A a product). Every solve is a distributed Krylov solve under -np, so the count of
     solves with A is what decides."""
+    sys.path.insert(0, os.path.dirname(SCIPY))
     import scipy_midpoint
     lines = ["The contact QP under -np: S's columns gathered (the driver's choice) against an active set on distributed "
              "solves that never forms S (each active-set iteration solving S_aa lm_a = r_a by CG to 1e-12, warm-started; "
-             "postprocess/scipy_midpoint.py, strategy=), on the scene ball to T = 20 (serial SuperLU; under -np each "
+             "tests/reference/scipy_midpoint.py, strategy=), on the scene ball to T = 20 (serial SuperLU; under -np each "
              "solve is a Krylov solve):", "",
              "| mesh | dofs | Gamma_C nodes | strategy | solves with A | predictor | Schur columns | corrections | CG products "
              "| warm starts | solves / QP step | largest CG | same active sets | max abs u3_low difference | ms/step (scipy) |",
              "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"]
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     for mesh, path in STRATEGY_MESHES:
         if only and mesh not in only:
             continue
         print(f"bench: contact strategies on {mesh} ...", flush=True)
-        res = {k: scipy_midpoint.run(os.path.join(root, path), T=20.0, strategy=k) for k in ("gathered", "matrix-free")}
+        res = {k: scipy_midpoint.run(os.path.join(ROOT, path), T=20.0, strategy=k) for k in ("gathered", "matrix-free")}
         ga = res["gathered"]["history"]
         for k, r in res.items():
             h, by = r["history"], r["solves_by_purpose"]
@@ -577,7 +534,7 @@ def write_tables(out, stem, rows, text):
             fh.write(",".join(str(r[k]) for k in keys) + "\n")
 
 
-NH_AIM = 1.5    # issue 18: a Neo-Hookean step at most 1.5x an SVK step on Test 1
+NH_AIM = 1.5    # a Neo-Hookean step at most 1.5x an SVK step on Test 1
 
 
 def nh_lines(by, svk_pairs, horizon, full):

@@ -11,7 +11,6 @@ A run that fails stops this script with a one-line error and exit status 1.
 """
 import os
 import sys
-import time
 
 import matplotlib
 
@@ -21,10 +20,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
+from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import read_run, read_summary  # noqa: E402
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 
 # Turek & Hron (2006), Table "CSM3", finest level: mean +- amplitude [frequency], x 1e-3 m
 REFERENCE = {"ux": (-14.305, 14.305, 1.0995), "uy": (-63.607, 65.160, 1.0995)}
@@ -47,13 +44,11 @@ class Failure(Exception):
 
 def run_case(out, case):
     run_dir = os.path.join(out, case)
-    args = [RUN, "csm3", run_dir] + CASES[case][1] + ["-progress", "0"]
-    start = time.time()
-    p = jobs.run(args, cwd=ROOT, env=dict(os.environ, FORCE="1"))
+    p = run_driver("csm3", run_dir, CASES[case][1] + ["-progress", "0"], cwd=ROOT)
     if p.returncode != 0:
         line = (p.stderr.strip().splitlines() or ["no message"])[-1]
         raise Failure(f"csm3 {case} failed (exit {p.returncode}): {line}")
-    return case, time.time() - start
+    return case, p.wall
 
 
 def oscillation(t, u):

@@ -1,5 +1,5 @@
 """`make methods`: the methods the paper measures itself against, side by side with its own
-(issue 17; docs/methods.md).
+(docs/methods.md).
 
 Runs Test 1 and Test 2 (t1 = 18) to T = 45 with each method of MAKE_METHODS (METHODS, then
 QUADRATURE_METHODS), --jobs at a time (2), into OUT/<test>/<method>/, and writes into OUT/:
@@ -27,10 +27,9 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
+from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import contact_intervals, error_lines, guard_stop, read_csv, read_freefem_mesh, read_run, read_summary  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 T = "45"
 SNAPSHOT = 15.25
 # name: (label, options). The paper's method first; its QP is solved exactly (activeset). Penalty and
@@ -82,19 +81,15 @@ class Failure(Exception):
 def run_one(out, test, method):
     scene, targs, _ = TESTS[test]
     run_dir = os.path.join(out, test, method)
-    cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0", "-T", T, "-snapshots", f"{SNAPSHOT:g}"] + targs + MAKE_METHODS[method][1]
-    t0 = time.perf_counter()
-    p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
-    wall = time.perf_counter() - t0
-    with open(os.path.join(out, test, f"{method}.log"), "w") as f:
-        f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
+    p = run_driver(scene, run_dir, ["-progress", "0", "-vtk", "0", "-T", T, "-snapshots", f"{SNAPSHOT:g}"] + targs + MAKE_METHODS[method][1],
+                   log=os.path.join(out, test, f"{method}.log"), cwd=ROOT)
     errors = error_lines(p.stderr)
     stopped = p.returncode == 4 and guard_stop(p.stderr) is not None
     if not stopped and (p.returncode != 0 or not os.path.exists(os.path.join(run_dir, "summary.txt"))):
         err = " ".join(line.strip() for line in errors) or p.stderr.strip()
         raise Failure(f"{test}/{method} failed (exit {p.returncode}; see {test}/{method}.log): {err[:300]}")
     warnings = [line for line in p.stderr.splitlines() if line.startswith("warning: the modified energy")]
-    return {"test": test, "method": method, "dir": run_dir, "wall": wall, "warning": warnings[0] if warnings else "",
+    return {"test": test, "method": method, "dir": run_dir, "wall": p.wall, "warning": warnings[0] if warnings else "",
             "stopped": errors[0] if stopped else ""}
 
 

@@ -6,14 +6,12 @@ the table says where. Usage: python3 postprocess/scene_costs.py [--out results/s
 import argparse
 import glob
 import os
-import subprocess
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import jobs  # noqa: E402
+from driver import ROOT, run_case  # noqa: E402
 from history import read_run  # noqa: E402
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def main():
@@ -21,6 +19,7 @@ def main():
     p.add_argument("--out", default=os.path.join(ROOT, "results", "scene_costs"))
     p.add_argument("--scenes", default="", help="comma-separated scene names (default: every scene)")
     a = p.parse_args()
+    jobs.stop_on_interrupt("scene_costs.py", a.out, [])
     paths = sorted(glob.glob(os.path.join(ROOT, "edp", "scenes", "*.idp")))
     if a.scenes:
         paths = [os.path.join(ROOT, "edp", "scenes", name + ".idp") for name in a.scenes.split(",")]
@@ -28,21 +27,17 @@ def main():
     for path in paths:
         scene = os.path.basename(path)[:-4]
         out = os.path.join(a.out, scene)
-        t0 = time.perf_counter()
-        subprocess.run([os.path.join(ROOT, "edp", "run.sh"), scene, out, "-progress", "0"],
-                       check=True, capture_output=True, env=dict(os.environ, FORCE="1"))
-        wall = time.perf_counter() - t0
+        run = run_case(scene, out, ["-progress", "0"])
+        if run.returncode != 0:
+            sys.exit(f"error: {scene} failed (exit {run.returncode}): {run.stderr.strip()}")
         h = read_run(out)
-        print(f"| `{scene}` | {int(h['qp_solved'].sum())} / {len(h['t']) - 1} | {wall:.3g} |", flush=True)
+        print(f"| `{scene}` | {int(h['qp_solved'].sum())} / {len(h['t']) - 1} | {run.wall:.3g} |", flush=True)
     print("\nWith -material svk:\n| scene | outcome | constrained steps / steps | Newton iterations per step | wall s |\n"
           "| --- | --- | ---: | ---: | ---: |")
     for path in paths:
         scene = os.path.basename(path)[:-4]
         out = os.path.join(a.out, scene + "_svk")
-        t0 = time.perf_counter()
-        run = subprocess.run([os.path.join(ROOT, "edp", "run.sh"), scene, out, "-progress", "0", "-material", "svk"],
-                             capture_output=True, text=True, env=dict(os.environ, FORCE="1"))
-        wall = time.perf_counter() - t0
+        run = run_case(scene, out, ["-progress", "0", "-material", "svk"])
         if run.returncode == 0:
             outcome = "reaches T"
         elif run.returncode == 4 and "inverted" in run.stderr:
@@ -53,7 +48,7 @@ def main():
         h = read_run(out)
         steps = len(h["t"]) - 1
         print(f"| `{scene}` | {outcome} | {int(h['qp_solved'].sum())} / {steps} | "
-              f"{h['newton_iterations'][1:].mean():.2f} | {wall:.3g} |", flush=True)
+              f"{h['newton_iterations'][1:].mean():.2f} | {run.wall:.3g} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ included, stops this script with a one-line error and exit status 1.
 Draws (PNG and PDF) into OUT/ and writes OUT/summary.md.
 """
 import argparse
-import glob
 import os
 import re
 import sys
@@ -29,10 +28,10 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from history import contact_intervals, read_csv, read_freefem_mesh, read_parameters, read_run, read_summary  # noqa: E402
+from driver import ROOT, run_case as run_driver  # noqa: E402
+from history import read_csv, read_freefem_mesh, read_run  # noqa: E402
+from svk_measures import Failure, metrics, snapshot_min_J, snapshots, uniaxial_stress  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RUN = os.path.join(ROOT, "edp", "run.sh")
 MODELS = ("linear", "svk", "neohookean")
 MODEL_ARGS = {"linear": ["-solver", "activeset"], "svk": ["-material", "svk"],
               "neohookean": ["-material", "neohookean"]}
@@ -60,23 +59,15 @@ CONTACT_CASES = [c for c in CASES if c != "spin"]
 BREAK_RE = re.compile(r"newton failed at step (\d+), t = ([-+0-9.eE]+)")
 
 
-class Failure(Exception):
-    pass
-
-
 def run_one(out, case, model):
     scene, args, _, may_collapse, _ = CASES[case]
     run_dir = os.path.join(out, case, model)
     extra = list(MODEL_ARGS[model])
     if case == "spin" and model == "linear":
         extra = []                       # no foundation: no QP, -solver would only draw a warning
-    cmd = [RUN, scene, run_dir, "-progress", "0", "-vtk", "0"] + extra + args
-    t0 = time.perf_counter()
-    p = jobs.run(cmd, env=dict(os.environ, FORCE="1"), cwd=ROOT)
-    wall = time.perf_counter() - t0
-    with open(os.path.join(out, case, f"{model}.log"), "w") as f:
-        f.write("$ " + " ".join(cmd) + "\n" + p.stdout + p.stderr + f"exit status {p.returncode}\n")
-    res = {"case": case, "model": model, "dir": run_dir, "wall": wall, "rc": p.returncode, "broke": None}
+    p = run_driver(scene, run_dir, ["-progress", "0", "-vtk", "0"] + extra + args, log=os.path.join(out, case, f"{model}.log"),
+                   cwd=ROOT)
+    res = {"case": case, "model": model, "dir": run_dir, "wall": p.wall, "rc": p.returncode, "broke": None}
     if p.returncode == 0 and os.path.exists(os.path.join(run_dir, "summary.txt")):
         return res
     err = " ".join(line.strip() for line in p.stderr.splitlines() if line.startswith("error")) or p.stderr.strip()
@@ -87,11 +78,6 @@ def run_one(out, case, model):
         res["broke"] = {"step": int(m.group(1)), "t": float(m.group(2)), "message": err}
         return res
     raise Failure(f"{case}/{model} failed (exit {p.returncode}; see {case}/{model}.log): {err[:300]}")
-
-
-def snapshots(run_dir):
-    files = glob.glob(os.path.join(run_dir, "snapshot_t*.csv"))
-    return sorted((float(re.search(r"snapshot_t(.*)\.csv", p).group(1)), p) for p in files)
 
 
 def save(fig, out, name):
@@ -206,13 +192,6 @@ def plot_spin(runs, out, name):
     save(fig, out, name)
 
 
-def uniaxial_stress(s, lam=30.0, mu=30.0):
-    """First Piola-Kirchhoff stress P11 under uniaxial strain F = diag(s, 1), per model."""
-    k = lam + 2 * mu
-    return {"linear": k * (s - 1), "svk": k * s * (s * s - 1) / 2,
-            "neohookean": mu * (s - 1 / s) + lam * np.log(s) / s}
-
-
 def plot_uniaxial(out, name, lam=30.0, mu=30.0):
     """Why the soft SVK body collapses and the Neo-Hookean one does not: the uniaxial-strain stress."""
     s = np.linspace(0.2, 1.3, 400)
@@ -233,82 +212,6 @@ def plot_uniaxial(out, name, lam=30.0, mu=30.0):
            title=f"uniaxial strain, lambda = mu = {lam:g}")
     ax.legend(fontsize=8)
     save(fig, out, name)
-
-
-def snapshot_min_J(run_dir):
-    """(t, min det F) at each snapshot: det F of a P1 triangle is its deformed over its reference area,
-    what the history's min_J holds for a non-linear run; for the linear body, the only record of it."""
-    xy, tri = read_freefem_mesh(os.path.join(run_dir, "mesh.msh"))
-
-    def area(p):
-        a, b = p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]]
-        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    out = []
-    for t, path in snapshots(run_dir):
-        s = read_csv(path)
-        X = np.column_stack([s["x"], s["y"]])
-        if X.shape != xy.shape or np.abs(X - xy).max() > 1e-6:
-            raise Failure(f"{path}: its rows are not the vertices of mesh.msh")
-        out.append((t, float((area(X + np.column_stack([s["u1"], s["u2"]])) / area(X)).min())))
-    return out
-
-
-def fixed_foundation_steps(run_dir, t):
-    """Steps n -> n+1 (index n+1) during which the foundation does not move."""
-    p = read_parameters(run_dir)
-    f = p["-foundation"]
-    if f == "none" or (f == "flat" and float(p["-foundation_velocity"]) == 0):
-        return np.ones(len(t) - 1, bool)
-    if f == "cosine":
-        return (t[1:] <= float(p["-t0"])) | (t[:-1] >= float(p["-t1"]))
-    raise Failure(f"{run_dir}: no rule for when the foundation {f} is fixed")
-
-
-def at_max(t, v, arg=np.argmax):
-    k = int(arg(v))
-    return float(v[k]), float(t[k])
-
-
-def metrics(res, h):
-    s = read_summary(res["dir"]) if os.path.exists(os.path.join(res["dir"], "summary.txt")) else {}
-    t = h["t"]
-    n = h["newton_iterations"][1:]
-    m = {"steps": len(t) - 1, "t_end": t[-1], "max_strain": at_max(t, h["max_strain"]),
-         "newton_mean": float(n.mean()) if len(n) else 0.0, "newton_max": int(n.max()) if len(n) else 0,
-         "cpu": s.get("cpu_seconds"), "max_pen": float(h["max_penetration"].max())}
-    if "u2_probe0" in h:
-        comp = h["u2_low"] - h["u2_probe0"]          # shortening of the vertical diameter (40 at rest)
-        m["compression"] = at_max(t, comp)
-    vm = [(read_csv(p)["vonmises"].max(), t) for t, p in snapshots(res["dir"])]
-    m["vm"] = max(vm) if vm else None
-    snapJ = snapshot_min_J(res["dir"])
-    if "min_J" in h:
-        m["min_J"] = at_max(t, h["min_J"], np.argmin)
-        for ts, j in snapJ:                          # the history's min_J is the snapshots' det F
-            k = int(np.argmin(np.abs(t - ts)))
-            if abs(h["min_J"][k] - j) > 1e-6:
-                raise Failure(f"{res['case']}/{res['model']}: min_J {h['min_J'][k]:.9g} at t = {t[k]:g} but "
-                              f"{j:.9g} from the snapshot")
-    else:
-        m["min_J"] = None                            # the linear history has no min_J
-    m["snapshot_min_J"] = min(((j, ts) for ts, j in snapJ), default=None)
-    e, am = h["energy"], h["angular_momentum"]
-    m["energy_drift"] = float(np.abs(e - e[0]).max() / abs(e[0]))
-    m["am_drift"] = float(np.abs(am - am[0]).max() / abs(am[0])) if am[0] != 0 else None
-    me = h["modified_energy"]
-    rise = np.diff(me)[fixed_foundation_steps(res["dir"], t)]
-    m["energy"] = (float(me[0]), float(me[-1]), float(rise.max()) if len(rise) else float("nan"))
-    iv = contact_intervals(t, h["active_nodes"] > 0)
-    m["bounces"] = len(iv)
-    m["first_contact"] = iv[0] if iv else None
-    m["alpha"] = at_max(t, h["contact_pressure_low"])
-    if iv and not (res["broke"] and iv[0][1] == t[-1]):
-        k0, k1 = int(np.searchsorted(t, iv[0][0])), int(np.searchsorted(t, iv[0][1]))
-        m["v_impact"], m["v_rebound"] = float(h["v2_mean"][k0 - 1]), (float(h["v2_mean"][k1 + 1])
-                                                                       if k1 + 1 < len(t) else None)
-        later = (t > iv[0][1]) & (t < (iv[1][0] if len(iv) > 1 else np.inf))
-        m["rebound_height"] = at_max(t[later], h["u2_low"][later]) if later.any() else None
-    return m
 
 
 def status(res, m):

@@ -10,9 +10,10 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "postprocess"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "reference"))     # scipy_midpoint
 
 from history import read_run  # noqa: E402
-from stress import FAST, case_args, may_break  # noqa: E402
+from stress_cases import FAST, case_args, may_break  # noqa: E402
 
 RUN = os.path.join(ROOT, "edp", "run.sh")
 
@@ -53,7 +54,7 @@ RUNS = {
     "svk_f0_falling": ("test2", ["-material", "svk", "-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-t0", "2", "-t1", "8",
                                  "-T", "20"]),
 }
-# any body, any mesh (issue 11): Gamma_D, the new scenes, P2, CSM3 (tests/test_geometry.py)
+# any body, any mesh: Gamma_D, the new scenes, P2, CSM3 (tests/test_geometry.py)
 COARSE = os.path.join(ROOT, "meshes", "disk_coarse.msh")
 RUNS.update({
     "cantilever_activeset": ("cantilever", ["-T", "10", "-solver", "activeset", "-probes", "0,1.5,10,1.5", "-snapshots", "5"]),
@@ -76,7 +77,7 @@ RUNS.update({
     "cantilever_svk_step": ("cantilever", ["-T", "10", "-material", "svk", "-probes", "0,1.5,10,1.5", "-snapshots", "5",
                                            "-newton_precond", "step"]),
 })
-# the methods of issue 17 (tests/test_methods.py): mass, contact enforcement
+# the methods of docs/methods.md (tests/test_methods.py): mass, contact enforcement
 REST = ["-u0y", "0", "-T", "10", "-probes", "0,40"]           # the disk resting on the foundation under gravity
 F0_IMPACT = ["-fy", "0", "-v0y", "-0.5", "-u0y", "1", "-T", "40"]   # f = 0: one impact and the rebound
 PENALTY_EPS = ("1e-2", "1e-3", "1e-4")
@@ -142,7 +143,7 @@ RUNS.update({
     "cantilever_penalty_gauss": ("cantilever", ["-T", "10", "-contact", "penalty", "-penalty_eps", "1e-4",
                                                 "-probes", "0,1.5,10,1.5", "-snapshots", "5"] + GAUSS),
 })
-# the Neo-Hookean body (issue 18): the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
+# the Neo-Hookean body: the paper's Test 1 and Test 2 to T = 120 (SVK collapses at t = 16.8),
 # a spinning free flight, its dt-convergence, f = 0 impacts, P2
 NH = ["-material", "neohookean"]
 NH_SPIN_DTS = ("0.1", "0.05", "0.025")
@@ -168,7 +169,7 @@ for _s in SMALL_LOADS:
     for _m in ("svk", "neohookean", "linear"):
         RUNS[f"rest_{_m}_{_s}"] = ("test1", ["-material", _m, "-u0y", "0", "-fy", f"{-0.1 * _s:g}", "-T", "10",
                                              "-probes", "0,40"] + (["-solver", "activeset"] if _m == "linear" else []))
-# the fast subset of make stress (postprocess/stress.py)
+# the fast subset of make stress (postprocess/stress_cases.py)
 RUNS.update({f"stress: {name}": case_args(name, horizon) for name, horizon in FAST.items()})
 # runs allowed to stop with exit 4 (an SVK stress case that may collapse); the
 # stress test then accepts it only as the clean break (postprocess/stress.py)

@@ -1,4 +1,4 @@
-"""The 3D ball's meshes (meshes/ball.geo, hertz.geo; issue 25, item 4) as gmsh writes them: the lowest point
+"""The 3D ball's meshes (meshes/ball.geo, hertz.geo) as gmsh writes them: the lowest point
 (0, 0, 0) a vertex, Gamma_C (label 1) exactly the sphere below X3 = 10, outward boundary triangles, positive
 tetrahedra, and the sizes their comments state; hertz.msh resolves Hertz's contact radius at v0/c* = 1e-3
 (a*/h >= 4). Reads the .msh files that make meshes builds; no FreeFEM."""
@@ -10,7 +10,7 @@ import pytest
 
 from conftest import ROOT
 
-import hertz
+import hertz_analysis
 from mesh_counts import msh22_read
 
 R = 20.0
@@ -53,10 +53,10 @@ def test_ball_mesh(name):
 
 
 def test_hertz_mesh_resolves_the_contact():
-    """hertz.msh's default grading gives a*/h >= 4 at v0/c* = 1e-3 (issue 25's target mesh; h the mean edge of
+    """hertz.msh's default grading gives a*/h >= 4 at v0/c* = 1e-3 (make hertz's target mesh; h the mean edge of
     Gamma_C within a* of the pole), and its triangles there are finer than those of hertz_coarse.msh."""
     load("hertz.msh"), load("hertz_coarse.msh")
-    a = hertz.hertz(1e-3 * hertz.wave_speed())["a_star"]
-    fine, coarse = (hertz.pole_size(os.path.join(ROOT, "meshes", m), a) for m in ("hertz.msh", "hertz_coarse.msh"))
+    a = hertz_analysis.hertz(1e-3 * hertz_analysis.wave_speed())["a_star"]
+    fine, coarse = (hertz_analysis.pole_size(os.path.join(ROOT, "meshes", m), a) for m in ("hertz.msh", "hertz_coarse.msh"))
     print(f"a* = {a:.4f}: a*/h = {a / fine:.2f} (hertz.msh), {a / coarse:.2f} (hertz_coarse.msh)")
     assert a / fine >= 4 and coarse > 2 * fine

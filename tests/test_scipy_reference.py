@@ -1,4 +1,4 @@
-"""The FreeFEM driver against an independent numpy + scipy implementation (postprocess/scipy_midpoint.py) of
+"""The FreeFEM driver against an independent numpy + scipy implementation (tests/reference/scipy_midpoint.py) of
 the same scheme on the 3D scene `ball` (docs/3d.md): assembly, factorisation, active-set QP solver and
 history written from scratch, sharing no code with edp/."""
 import os

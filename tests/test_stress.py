@@ -1,10 +1,10 @@
-"""The fast subset of `make stress`: hard cases pass the criteria of postprocess/stress.py.
+"""The fast subset of `make stress`: hard cases pass the criteria of make stress (postprocess/stress_cases.py).
 An SVK case may stop at an element collapse (exit 4); that passes only as the clean
-break stress.py accepts (one "newton failed at step N, t = X: reason" line, history
+break those criteria accept (one "newton failed at step N, t = X: reason" line, history
 intact), and the subset pins which case breaks and when."""
 import pytest
 
-from stress import CASES, FAST, evaluate, outcome
+from stress_cases import CASES, FAST, evaluate, outcome
 
 # what each SVK case of the subset does on its short horizon (docs/stress.md)
 EXPECTED_BREAK_T = {"svk v0y -5": 0.95}
@@ -28,7 +28,7 @@ def test_svk_break_is_told_apart():
     line = ("error: newton failed at step 19, t = 0.95: triangle 1798 inverted (det F = -0.13461 at (-1.74311, "
             "0.076106)); the retry from u^n with damped updates: no convergence in 100 Newton iterations; "
             "history.csv keeps every step before it\n")
-    from stress import svk_break
+    from stress_cases import svk_break
     assert svk_break(line)[:2] == (19, 0.95)
     assert svk_break(line + line) is None                                   # not one line
     assert svk_break(line.replace("triangle 1798 inverted (det F = -0.13461 at (-1.74311, 0.076106))",
@@ -41,7 +41,7 @@ def test_neohookean_rows_and_their_bound(tmp_path):
     """The Neo-Hookean rows are the cases where SVK collapses; their bound is the round-off one
     (a one-step rise of the modified energy above 1e-12 relative fails them, not an svk row)
     and min_J > 0 on every step."""
-    from stress import NEOHOOKEAN, NH_ROUNDOFF, SVK
+    from stress_cases import NEOHOOKEAN, NH_ROUNDOFF, SVK
     assert set(NEOHOOKEAN) <= set(SVK) and not any(n.startswith("f = 0") for n in NEOHOOKEAN)
     assert all(CASES[f"neohookean {n}"][2] == "roundoff" and "neohookean" in CASES[f"neohookean {n}"][1] for n in NEOHOOKEAN)
     columns = ["step", "t", "energy", "modified_energy", "active_nodes", "max_penetration", "qp_solved", "solver_status", "min_J"]
@@ -63,7 +63,7 @@ def test_guard_stop_is_told_apart():
     """A "guarded" case (explicit Verlet near its critical step) may end at the energy guard: one line
     "error: the modified energy grew from A to B by step N (t = X), G% of ..." (exit 4); any other
     line, or two, is a failure."""
-    from stress import guard_stop
+    from history import guard_stop
     line = ("error: the modified energy grew from 502.362 to 618.219 by step 1165 (t = 20.97), 10.6% of the run's energy "
             "1096.64, on a fixed foundation, where more than 10% is no valid result: explicit Verlet is stable only below "
             "its critical step 0.0206705 (-dt 0.018 is 87.1% of it), ...; history.csv keeps every step up to this one\n")
@@ -77,7 +77,8 @@ def test_through_stop_is_told_apart():
     """A case of THROUGH (v0y -10: the disk squashed past Gamma_C) may end at the stop of the body through the
     foundation: one line "error: the body passed through the foundation at step N (t = X): ..., is D below it,
     P% of the body's size ..." (exit 4); any other line, or two, is a failure."""
-    from stress import THROUGH, through_stop
+    from stress_cases import THROUGH
+    from history import through_stop
     line = ("error: the body passed through the foundation at step 43 (t = 2.15): its boundary vertex (-18.4776, 12.3463), "
             "not on Gamma_C (label 1), is 2.03314 below it, 5.08% of the body's size 40, beyond the 5% a run accepts (only "
             "Gamma_C is held by (10)); Gamma_C presses on the foundation (49 of its 49 vertices), ...; history.csv keeps every "

@@ -225,15 +225,15 @@ def test_newton_failure_without_retry_is_one_clear_error(tmp_path):
 
 
 def test_make_svk_measures_the_three_bodies_alike(runs, histories):
-    """postprocess/svk_compare.py's measurements (make svk) on this suite's short Test 1 runs of the
+    """make svk's measurements (postprocess/svk_measures.py) on this suite's short Test 1 runs of the
     three bodies (linear to T = 45, SVK to 16.5, Neo-Hookean to 120): the first contact starts at the
     same step for all (the free fall is the same), det F from the snapshots equals the history's min_J
     (metrics() fails otherwise; the linear body's min J comes from its snapshots alone) and lies in
     (0, 1) under the impact, and the modified energy does not rise in a step on the fixed foundation."""
-    import svk_compare
+    import svk_measures
     for model, name in (("linear", "test1"), ("svk", "svk_test1"), ("neohookean", "neohookean_test1")):
         res = {"case": "test1", "model": model, "dir": runs[name], "broke": None, "wall": 0.0}
-        m = svk_compare.metrics(res, histories[name])
+        m = svk_measures.metrics(res, histories[name])
         assert m["first_contact"][0] == 8.95, f"{model}: first contact at {m['first_contact']}"
         assert 0 < m["snapshot_min_J"][0] < 1, f"{model}: min J at the snapshots {m['snapshot_min_J']}"
         e0, _, rise = m["energy"]
@@ -244,7 +244,7 @@ def test_make_svk_uniaxial_stresses_are_the_derivatives_of_the_energies():
     """svk_uniaxial's curves: under uniaxial strain F = diag(s, 1) each model's P11 is dW/ds of its
     stored energy (W_svk = lambda/2 tr(E)^2 + mu E:E, W_nh = mu/2 (tr C - 2 - 2 ln J) + lambda/2 (ln J)^2),
     checked by central differences, and all three have the slope lambda + 2 mu at s = 1."""
-    from svk_compare import uniaxial_stress
+    from svk_measures import uniaxial_stress
     lam, mu = 30.0, 30.0
     W = {"linear": lambda s: (lam + 2 * mu) / 2 * (s - 1) ** 2,
          "svk": lambda s: (lam / 2 + mu) * ((s * s - 1) / 2) ** 2,

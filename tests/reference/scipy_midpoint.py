@@ -24,7 +24,7 @@ The discretisation, exactly as the driver's:
     discreteEnergy), the modified energy E - F'u (io/output.idp), the active nodes
     (lm_j > 1e-6 int_{Gamma_C} phi_j, io/output.idp countActive) and whether the step solved the QP.
 
-Use: /usr/bin/python3 postprocess/scipy_midpoint.py --mesh meshes/ball.msh --T 120 --dt 0.05 --out history.csv
+Use: /usr/bin/python3 tests/reference/scipy_midpoint.py --mesh meshes/ball.msh --T 120 --dt 0.05 --out history.csv
 or, from another script, run(mesh, T, dt, ...) (returns the history arrays and the timings).
 """
 import argparse
