@@ -154,7 +154,7 @@ def test_constraint_10_holds_at_every_contact_node(h3, runs3d):
 def test_activeset_and_ipopt_agree(h3, exact, ipopt):
     """The same QP (4) solved exactly (active set) and by IPOPT to tol 1e-10 give the same motion, on the flat
     foundation and on the moving one, where both slopes psi_X1, psi_X2 are non-zero and the active set's
-    Schur complement uses all nine blocks (contact/solver.idp)."""
+    Schur complement uses all nine blocks (contact/active_set.idp)."""
     a, b = h3[exact], h3[ipopt]
     n = len(b["t"])
     a = {k: v[:n] for k, v in a.items()}

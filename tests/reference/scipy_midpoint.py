@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """An independent numpy + scipy implementation of the 3D mid-point scheme (1)-(2) of Murea (2023) with the
 linearised obstacle constraint (10), each step's QP (4) solved exactly by the primal-dual active-set
-iteration of edp/lib/contact/solver.idp (solveStepActiveSet): a benchmark reference for, and a cross-check
+iteration of edp/lib/contact/active_set.idp (solveStepActiveSet): a benchmark reference for, and a cross-check
 of, the FreeFEM driver (edp/contact.edp with -solver activeset, -mass consistent, -material linear,
 -scheme midpoint, -skip_free 1) on the scene `ball` (docs/3d.md) or any ball-like P1 tetrahedral body over
 the flat, fixed foundation X3 = 0.
@@ -41,7 +41,7 @@ import scipy.sparse.linalg as spla
 BALL = dict(rho=1.0, lam=30.0, mu=30.0, fz=-0.1, u0z=4.0, dt=0.05, T=120.0)
 HISTORY_COLUMNS = ("step", "t", "u3_low", "energy", "active_nodes", "qp_solved")
 ACTIVE_PRESSURE = 1e-6          # io/output.idp: a node is active when lm_j > 1e-6 int_{Gamma_C} phi_j
-MAX_ACTIVE_SET_ITERATIONS = 100  # contact/solver.idp, activeSetMaxIterations
+MAX_ACTIVE_SET_ITERATIONS = 100  # contact/active_set.idp, activeSetMaxIterations
 
 
 # ---- mesh
@@ -120,7 +120,7 @@ def assemble(xyz, tets, rho, lam, mu, fz):
 
 
 def contact_weights(xyz, tris):
-    """int_{Gamma_C} phi_j at every vertex (scheme/midpoint.idp, vContactWeight): a third of each triangle's area."""
+    """int_{Gamma_C} phi_j at every vertex (body/forms.idp, vContactWeight): a third of each triangle's area."""
     a, b, c = (xyz[tris[:, i]] for i in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     w = np.zeros(len(xyz))
@@ -184,7 +184,7 @@ def run(mesh, T=BALL["T"], dt=BALL["dt"], rho=BALL["rho"], lam=BALL["lam"], mu=B
     ref = reference_vertex(xyz, contact)
     kkt_tol = 1e-9 * max(1.0, np.abs(g).max())
 
-    # S = C A^-1 C' = P_z' A^-1 P_z: its known columns, S_jj = 1 for the others (contact/solver.idp)
+    # S = C A^-1 C' = P_z' A^-1 P_z: its known columns, S_jj = 1 for the others (contact/active_set.idp)
     S = np.zeros((nc, nc))
     S_diag = np.ones(nc)
     known = np.zeros(nc, dtype=bool)
