@@ -203,13 +203,8 @@ processes=serial
     "$order" "$fe" "$material" "$processes" "$dimension" > "$stage/compiled.idp" &&
   printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
     "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
-# IPOPT reads ipopt.opt from the working directory; its options override the script's.
-cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
-# no banner
-sb yes
-# keep C x <= g exactly (the default 1e-8 relaxation lets the body sink ~3e-8 into the foundation)
-bound_relax_factor 0
-OPT
+# IPOPT reads ipopt.opt from its working directory
+cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 
 # ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
 export FF_LOADPATH=/usr/lib/freefem++
@@ -219,36 +214,23 @@ export FF_LOADPATH=/usr/lib/freefem++
 ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
 export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 if [ -n "$np" ]; then
-  # -np N: FreeFem++-mpi's plugins; ffddm's files as installed, but ffddm.idp without its line `load "MUMPS_mpi"`:
-  # Debian does not ship MUMPS_mpi.so, and with it `include "ffddm.idp"` stops every run ("Load error: MUMPS_mpi",
-  # "cannot open shared object file"); the subdomains' solves here are CHOLMOD's or UMFPACK's (docs/parallel.md)
+  # -np N: FreeFem++-mpi's plugins, and ffddm's files as Debian can load them
   export FF_LOADPATH=/usr/lib/freefem++/mpi
-  mkdir "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
-  for f in /usr/include/freefem++/idp/ffddm*.idp; do
-    sed '/^[[:space:]]*load[[:space:]]*"MUMPS_mpi"/d' "$f" > "$stage/.ffddm/${f##*/}" 2>/dev/null || err "cannot write into $out (disk full?)" 7
-  done
+  sh "$here/lib/solve/ffddm_without_mumps.sh" "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
   export FF_INCLUDEPATH=".;.ffddm;.edp;/usr/include/freefem++/idp"
   # Open MPI refuses to start as root without these (CI runs as root)
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
-# FreeFEM writes everything to stdout. The filter keeps the driver's own lines
-# ("error:" and "warning:" ones go to stderr) and drops FreeFEM's traces, keeping
-# the first message of one for the error line. A compile error in the scene becomes
-# one line naming the scene file and the line; a file of the run that cannot be
-# opened for writing is a write failure (7). On a terminal the progress line is
-# rewritten in place; in a log every 10th is kept, and one a minute at least.
+# FreeFEM's output goes through edp/lib/run/output_filter.awk (the driver's lines; one error line).
 tty=0
 [ -t 1 ] && tty=1
 # CONTACT_DEBUG=1 also shows FreeFEM's raw output on stderr (for developers).
 raw=/dev/null
 [ -n "${CONTACT_DEBUG:-}" ] && raw=/dev/stderr
-# -np N: mpirun tags every line with its process ("[1,r]<stdout>:"); the filter keeps process 0's lines (every
-# process runs the same checks, so its errors are everyone's) and, from any process, its status line
-# "exit-status N" (run/options.idp) and FreeFEM's own error traces. A process that stops alone leaves the others
-# waiting in MPI for ever (FreeFEM's exit waits in MPI_Finalize): once the filter has seen one of those lines
-# (it writes $errfile.stop), the others get 5 s to end too, then mpirun is stopped, and the status is the one
-# the process gave (docs/parallel.md).
+# -np N: a process that stops alone leaves the others waiting in MPI for ever (FreeFEM's exit waits in
+# MPI_Finalize): once the filter has seen its status line or a crash (it writes $errfile.stop), the others get
+# 5 s to end too, then mpirun is stopped, and the status is the one the process gave (docs/parallel.md).
 # The pid of FreeFEM (or mpirun) goes into $errfile.pid, for run.sh to pass a signal on.
 run_freefem() {
   if [ -z "$np" ]; then
@@ -278,7 +260,6 @@ run_freefem() {
 awk_lines=()
 awk -W version 2>/dev/null | grep -q mawk && awk_lines=(-W interactive)
 # (run_freefem's shell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
-# (trace: FreeFEM's error traces, and mpirun's report of a process that died; any process's stops a parallel run)
 # The pipeline runs in the background, so that a signal to run.sh is handled at once (a shell runs its traps only
 # between commands): FreeFEM (or mpirun, which stops every process) is sent SIGTERM, and run.sh waits for it to
 # end (SIGKILL after 10 s), then dies of the signal it was sent, after the clean-up below.
@@ -295,54 +276,7 @@ stop_freefem() {
 for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
 # (awk -v reads a '\' as the start of an escape: the scene's path has each doubled)
 { run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
-    -v trace='Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code' \
-    -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" '
-  function newline() { if (pending) { printf "\n"; pending = 0 } }
-  function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
-  tagged { rank = -1
-           if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
-                                                                  rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
-  tagged && /^exit-status [0-9]+$/ { stop($2); next }
-  tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
-    if ($0 ~ trace && $0 !~ /^(error|warning): /) {
-      if (detail == "") { detail = (rank < 0 ? "mpirun" : "process " rank) ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
-      stop("crash")
-    }
-    next }
-  /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
-  /^(note: |mesh |reference point: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
-  /^progress / { sub(/^progress /, "")
-                 if (tty) { printf "\r%s   ", $0; pending = 1 }
-                 else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)
-                        if (++np % 10 == 0 || el + 0 >= shown + 60) { print; shown = el + 0 } }
-                 fflush(); next }
-  /Error line number [0-9]+, in file / {
-    line = $0; sub(/.*Error line number /, "", line); sub(/,.*/, "", line)
-    token = $0; sub(/.*before  *token */, "", token)
-    file = $0; sub(/.*, in file /, "", file); sub(/, before.*/, "", file)
-    if (reason == "") reason = "syntax error"
-    if (file ~ /scene\.idp$/) {
-      newline()
-      printf "error: scene %s, line %s: %s (before \"%s\")\n", scene, line, reason, token > "/dev/stderr"
-      compile = 3
-    } else if (detail == "") detail = "compile error in " file ", line " line ": " reason
-    next
-  }
-  /^ *The Identifier .* does not exist|^ *No operator|^ Error opening file .* in: / {
-    if (reason == "") { reason = $0; gsub(/^ +| +$/, "", reason) } next }
-  /^ Error opening file / { if (opened == "") { opened = $0; sub(/^ Error opening file /, "", opened) } next }
-  /Exec error|Assertion fail|Error|error|Segmentation fault|Aborted|Killed|Out of bound|bug/ {
-    if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
-    if (tagged && $0 ~ trace) stop("crash")
-    next }
-  { next }
-  END { newline()
-        if (compile) exit 3
-        # the files the run writes (io/output.idp, contact.edp): a failed open is a failed write
-        if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
-          print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
-        if (opened != "" && detail == "") detail = "cannot open " opened
-        if (detail != "") print detail > errfile }'
+    -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" -f "$here/lib/run/output_filter.awk"
   echo "${PIPESTATUS[@]}" > "$errfile.status"; } &
 pipeline=$!
 while kill -0 $pipeline 2>/dev/null; do
