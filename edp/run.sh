@@ -134,6 +134,19 @@ rm -rf "$stage"
 if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
   cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 fi
+# compiled.idp: the one place of what FreeFEM compiles. contact.edp includes it three times: first the order,
+# the processes' file and the dimension's; then (once it defines compiledSectionKinematics) the dimension's
+# kinematics; then (compiledSectionMaterial) the material's file for that dimension.
+write_compiled() {   # ORDER MATERIAL MATERIAL_FILE DIMENSION PROCESSES
+  local fe=P1
+  [ "$1" = 2 ] && fe=P2
+  printf '%s\n' "// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh's dimension, -np)" \
+    "IFMACRO(!compiledSectionKinematics)" "int compiledOrder = $1;" "func Pk = $fe;" "string compiledMaterial = \"$2\";" \
+    "include \"lib/run/processes_$5.idp\"" "include \"lib/dimension/$4d.idp\"" "ENDIFMACRO" \
+    "IFMACRO(compiledSectionKinematics)" "IFMACRO(!compiledSectionMaterial)" "include \"lib/dimension/kinematics_$4d.idp\"" \
+    "ENDIFMACRO" "ENDIFMACRO" "IFMACRO(compiledSectionMaterial)" "include \"lib/$3\"" "ENDIFMACRO" \
+    > "$stage/compiled.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
+}
 # The finite elements and the material are fixed when FreeFEM compiles the driver, so they are
 # read here, as the driver will read them: the scene's lines `order = N;` and `material = "NAME";`,
 # the restarted run's parameters.txt, then -order and -material on the command line.
@@ -179,8 +192,6 @@ dimension=2
 [ -r "$mesh_file" ] && awk -f "$here/lib/body/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
 # as an integer (02 is 2); not one: 0, and the driver refuses -order itself
 if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
-fe=P1
-[ "$order" = 2 ] && fe=P2
 # the materials: edp/lib/material/materials.txt, one line each (NAME, then how this error names it);
 # -material NAME is edp/lib/material/NAME.idp
 materials=$here/lib/material/materials.txt
@@ -199,10 +210,7 @@ fi
 [ -f "$here/lib/material/$material.idp" ] || err "edp/lib/material/materials.txt lists -material $material, but edp/lib/material/$material.idp is missing" 1
 processes=serial
 [ -n "$np" ] && processes=mpi
-{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension, -np)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/run/processes_%s.idp"\ninclude "lib/dimension/%sd.idp"\n' \
-    "$order" "$fe" "$material" "$processes" "$dimension" > "$stage/compiled.idp" &&
-  printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
-    "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
+write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
 # IPOPT reads ipopt.opt from its working directory
 cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 
