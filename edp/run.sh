@@ -134,6 +134,13 @@ rm -rf "$stage"
 if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
   cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 fi
+# FreeFEM's environment. FreeFEM splits FF_INCLUDEPATH at ';' and misreads a '\' in it, so its entries hold no
+# path of the user's: they are relative to the staging directory, FreeFEM's working directory, where .edp is a link
+# to edp/ (the staged compiled.idp includes lib/...)
+export FF_LOADPATH=/usr/lib/freefem++
+ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
+export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
+export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
 # compiled.idp: the one place of what FreeFEM compiles. contact.edp includes it three times: first the order,
 # the processes' file and the dimension's; then (once it defines compiledSectionKinematics) the dimension's
 # kinematics; then (compiledSectionMaterial) the material's file for that dimension.
@@ -147,51 +154,22 @@ write_compiled() {   # ORDER MATERIAL MATERIAL_FILE DIMENSION PROCESSES
     "ENDIFMACRO" "ENDIFMACRO" "IFMACRO(compiledSectionMaterial)" "include \"lib/$3\"" "ENDIFMACRO" \
     > "$stage/compiled.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 }
-# The finite elements and the material are fixed when FreeFEM compiles the driver, so they are
-# read here, as the driver will read them: the scene's lines `order = N;` and `material = "NAME";`,
-# the restarted run's parameters.txt, then -order and -material on the command line.
-# contact.edp checks that they agree. A run compiles only its material's file.
-order=1 material=linear     # (run/parameters.idp's defaults)
-# the scene without its comments (// to the end of a line, /* ... */ across lines), as FreeFEM reads it
-scene_code() {
-  awk '{ line = $0; out = ""
-         while (line != "") {
-           if (inblock) { i = index(line, "*/"); if (!i) { line = ""; break }; line = substr(line, i + 2); inblock = 0; continue }
-           i = index(line, "/*"); j = index(line, "//")
-           if (j && (!i || j < i)) { out = out substr(line, 1, j - 1); line = "" }
-           else if (i) { out = out substr(line, 1, i - 1); line = substr(line, i + 2); inblock = 1 }
-           else { out = out line; line = "" } }
-         print out }' "$scene_file"
-}
-scene_order=$(scene_code | sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' | tail -n 1)
-[ -n "$scene_order" ] && order=$scene_order
-scene_material=$(scene_code | sed -n 's/^[[:space:]]*material[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/=\1/p' | tail -n 1)
-[ -n "$scene_material" ] && material=${scene_material#=}
-if [ -n "$restart_dir" ]; then
-  order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
-  grep -q '^-material ' "$restart_dir/parameters.txt" && material=$(sed -n 's/^-material //p' "$restart_dir/parameters.txt" | tail -n 1)
+# -order, -material and the mesh, read as the driver reads them (scene < a restarted run's parameters.txt <
+# command line): edp/lib/run/choices.edp, serially, on a compiled.idp of the defaults. If it fails, the
+# defaults (run/parameters.idp's), and the driver names what is wrong.
+write_compiled 1 linear material/linear.idp 2 serial
+chosen=$(cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/lib/run/choices.edp" "${args[@]}" 2>/dev/null)
+order=1 material=linear mesh_file=$root/meshes/disk.msh
+if grep -q '^choice-mesh ' <<< "$chosen"; then
+  order=$(sed -n 's/^choice-order //p' <<< "$chosen" | tail -n 1)
+  material=$(sed -n 's/^choice-material //p' <<< "$chosen" | tail -n 1)
+  mesh_file=$(sed -n 's/^choice-mesh //p' <<< "$chosen" | tail -n 1)
 fi
-for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
-  case "${args[i]}" in
-    -order) order=${args[i + 1]} ;;
-    -material) material=${args[i + 1]} ;;
-  esac
-done
-# The dimension is the mesh's (issue 25): a gmsh mesh with tetrahedra is a 3D body. The mesh is found as the
-# driver finds it: -mesh on the command line (relative to the caller's directory), the restarted run's, the
-# scene's line `meshFile = "...";` (relative to the repository), or the disk. A mesh that is not there is 2D
-# here, and the driver names what is wrong with it.
-mesh_file=$root/meshes/disk.msh
-scene_mesh=$(scene_code | sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/\1/p' | tail -n 1)
-[ -n "$scene_mesh" ] && { case "$scene_mesh" in /*) mesh_file=$scene_mesh ;; *) mesh_file=$root/$scene_mesh ;; esac; }
-[ -n "$restart_dir" ] && grep -q '^-mesh ' "$restart_dir/parameters.txt" && mesh_file=$(sed -n 's/^-mesh //p' "$restart_dir/parameters.txt" | tail -n 1)
-for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
-  if [ "${args[i]}" = -mesh ]; then case "${args[i + 1]}" in /*) mesh_file=${args[i + 1]} ;; *) mesh_file=$PWD/${args[i + 1]} ;; esac; fi
-done
+[[ "$order" =~ ^[0-9]{1,9}$ ]] || order=0     # (the driver refuses it)
+# the dimension is the mesh's: a gmsh mesh with tetrahedra is a 3D body (one that is not there: 2D here, and
+# the driver names what is wrong with it)
 dimension=2
 [ -r "$mesh_file" ] && awk -f "$here/lib/body/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
-# as an integer (02 is 2); not one: 0, and the driver refuses -order itself
-if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
 # the materials: edp/lib/material/materials.txt, one line each (NAME, then how this error names it);
 # -material NAME is edp/lib/material/NAME.idp
 materials=$here/lib/material/materials.txt
@@ -215,12 +193,6 @@ write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
 cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 
 # ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
-export FF_LOADPATH=/usr/lib/freefem++
-# (edp/ too: the staged compiled_material.idp includes lib/material/NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
-# misreads a '\' in it, so its entries hold no path of the user's: they are relative to the staging directory, FreeFEM's
-# working directory, where .edp is a link to edp/
-ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
-export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 if [ -n "$np" ]; then
   # -np N: FreeFem++-mpi's plugins, and ffddm's files as Debian can load them
   export FF_LOADPATH=/usr/lib/freefem++/mpi
@@ -229,7 +201,6 @@ if [ -n "$np" ]; then
   # Open MPI refuses to start as root without these (CI runs as root)
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
-export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
 # FreeFEM's output goes through edp/lib/run/output_filter.awk (the driver's lines; one error line).
 tty=0
 [ -t 1 ] && tty=1
