@@ -134,53 +134,42 @@ rm -rf "$stage"
 if [ -n "$restart_dir" ]; then   # one copy of the checkpoint is checked, read and kept
   cp "$restart_dir/checkpoint.txt" "$stage/restart_checkpoint.txt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 fi
-# The finite elements and the material are fixed when FreeFEM compiles the driver, so they are
-# read here, as the driver will read them: the scene's lines `order = N;` and `material = "NAME";`,
-# the restarted run's parameters.txt, then -order and -material on the command line.
-# contact.edp checks that they agree. A run compiles only its material's file.
-order=1 material=linear     # (run/parameters.idp's defaults)
-# the scene without its comments (// to the end of a line, /* ... */ across lines), as FreeFEM reads it
-scene_code() {
-  awk '{ line = $0; out = ""
-         while (line != "") {
-           if (inblock) { i = index(line, "*/"); if (!i) { line = ""; break }; line = substr(line, i + 2); inblock = 0; continue }
-           i = index(line, "/*"); j = index(line, "//")
-           if (j && (!i || j < i)) { out = out substr(line, 1, j - 1); line = "" }
-           else if (i) { out = out substr(line, 1, i - 1); line = substr(line, i + 2); inblock = 1 }
-           else { out = out line; line = "" } }
-         print out }' "$scene_file"
+# FreeFEM's environment. FreeFEM splits FF_INCLUDEPATH at ';' and misreads a '\' in it, so its entries hold no
+# path of the user's: they are relative to the staging directory, FreeFEM's working directory, where .edp is a link
+# to edp/ (the staged compiled.idp includes lib/...)
+export FF_LOADPATH=/usr/lib/freefem++
+ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
+export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
+export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
+# compiled.idp: the one place of what FreeFEM compiles. contact.edp includes it three times: first the order,
+# the processes' file and the dimension's; then (once it defines compiledSectionSolves) the solves with A for
+# those processes and the dimension's kinematics; then (compiledSectionMaterial) the material's file for that
+# dimension.
+write_compiled() {   # ORDER MATERIAL MATERIAL_FILE DIMENSION PROCESSES
+  local fe=P1 solves=direct
+  [ "$1" = 2 ] && fe=P2
+  [ "$5" = mpi ] && solves=ffddm_solve
+  printf '%s\n' "// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh's dimension, -np)" \
+    "IFMACRO(!compiledSectionSolves)" "int compiledOrder = $1;" "func Pk = $fe;" "string compiledMaterial = \"$2\";" \
+    "include \"lib/run/processes_$5.idp\"" "include \"lib/dimension/$4d.idp\"" "ENDIFMACRO" \
+    "IFMACRO(compiledSectionSolves)" "IFMACRO(!compiledSectionMaterial)" "include \"lib/solve/$solves.idp\"" \
+    "include \"lib/dimension/kinematics_$4d.idp\"" "ENDIFMACRO" "ENDIFMACRO" \
+    "IFMACRO(compiledSectionMaterial)" "include \"lib/$3\"" "ENDIFMACRO" \
+    > "$stage/compiled.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 }
-scene_order=$(scene_code | sed -n 's/^[[:space:]]*order[[:space:]]*=[[:space:]]*\([0-9][0-9]*\)[[:space:]]*;.*/\1/p' | tail -n 1)
-[ -n "$scene_order" ] && order=$scene_order
-scene_material=$(scene_code | sed -n 's/^[[:space:]]*material[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/=\1/p' | tail -n 1)
-[ -n "$scene_material" ] && material=${scene_material#=}
-if [ -n "$restart_dir" ]; then
-  order=$(sed -n 's/^-order //p' "$restart_dir/parameters.txt" | tail -n 1)
-  grep -q '^-material ' "$restart_dir/parameters.txt" && material=$(sed -n 's/^-material //p' "$restart_dir/parameters.txt" | tail -n 1)
+write_compiled 1 linear material/linear.idp 2 serial
+chosen=$(cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/lib/run/choices.edp" "${args[@]}" 2>/dev/null)
+order=1 material=linear mesh_file=$root/meshes/disk.msh
+if grep -q '^choice-mesh ' <<< "$chosen"; then
+  order=$(sed -n 's/^choice-order //p' <<< "$chosen" | tail -n 1)
+  material=$(sed -n 's/^choice-material //p' <<< "$chosen" | tail -n 1)
+  mesh_file=$(sed -n 's/^choice-mesh //p' <<< "$chosen" | tail -n 1)
 fi
-for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
-  case "${args[i]}" in
-    -order) order=${args[i + 1]} ;;
-    -material) material=${args[i + 1]} ;;
-  esac
-done
-# The dimension is the mesh's (issue 25): a gmsh mesh with tetrahedra is a 3D body. The mesh is found as the
-# driver finds it: -mesh on the command line (relative to the caller's directory), the restarted run's, the
-# scene's line `meshFile = "...";` (relative to the repository), or the disk. A mesh that is not there is 2D
-# here, and the driver names what is wrong with it.
-mesh_file=$root/meshes/disk.msh
-scene_mesh=$(scene_code | sed -n 's/^[[:space:]]*meshFile[[:space:]]*=[[:space:]]*"\([^"]*\)"[[:space:]]*;.*/\1/p' | tail -n 1)
-[ -n "$scene_mesh" ] && { case "$scene_mesh" in /*) mesh_file=$scene_mesh ;; *) mesh_file=$root/$scene_mesh ;; esac; }
-[ -n "$restart_dir" ] && grep -q '^-mesh ' "$restart_dir/parameters.txt" && mesh_file=$(sed -n 's/^-mesh //p' "$restart_dir/parameters.txt" | tail -n 1)
-for ((i = 0; i + 1 < ${#args[@]}; i += 2)); do
-  if [ "${args[i]}" = -mesh ]; then case "${args[i + 1]}" in /*) mesh_file=${args[i + 1]} ;; *) mesh_file=$PWD/${args[i + 1]} ;; esac; fi
-done
+[[ "$order" =~ ^[0-9]{1,9}$ ]] || order=0     # (the driver refuses it)
+# the dimension is the mesh's: a gmsh mesh with tetrahedra is a 3D body (one that is not there: 2D here, and
+# the driver names what is wrong with it)
 dimension=2
 [ -r "$mesh_file" ] && awk -f "$here/lib/body/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
-# as an integer (02 is 2); not one: 0, and the driver refuses -order itself
-if [[ "$order" =~ ^\+?0*([0-9]{1,9})$ ]]; then order=${BASH_REMATCH[1]}; else order=0; fi
-fe=P1
-[ "$order" = 2 ] && fe=P2
 # the materials: edp/lib/material/materials.txt, one line each (NAME, then how this error names it);
 # -material NAME is edp/lib/material/NAME.idp
 materials=$here/lib/material/materials.txt
@@ -199,56 +188,28 @@ fi
 [ -f "$here/lib/material/$material.idp" ] || err "edp/lib/material/materials.txt lists -material $material, but edp/lib/material/$material.idp is missing" 1
 processes=serial
 [ -n "$np" ] && processes=mpi
-{ printf '// written by edp/run.sh: what the driver is compiled for (-order, -material, the mesh'"'"'s dimension, -np)\nint compiledOrder = %s;\nfunc Pk = %s;\nstring compiledMaterial = "%s";\ninclude "lib/run/processes_%s.idp"\ninclude "lib/dimension/%sd.idp"\n' \
-    "$order" "$fe" "$material" "$processes" "$dimension" > "$stage/compiled.idp" &&
-  printf '// written by edp/run.sh: the file of -material %s, the only material the driver compiles\ninclude "lib/%s"\n' \
-    "$material" "$material_file" > "$stage/compiled_material.idp"; } 2>/dev/null || err "cannot write into $out (disk full?)" 7
-# IPOPT reads ipopt.opt from the working directory; its options override the script's.
-cat > "$stage/ipopt.opt" 2>/dev/null <<'OPT' || err "cannot write into $out (disk full?)" 7
-# no banner
-sb yes
-# keep C x <= g exactly (the default 1e-8 relaxation lets the body sink ~3e-8 into the foundation)
-bound_relax_factor 0
-OPT
+write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
+# IPOPT reads ipopt.opt from its working directory
+cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 
 # ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
-export FF_LOADPATH=/usr/lib/freefem++
-# (edp/ too: the staged compiled_material.idp includes lib/material/NAME.idp) FreeFEM splits FF_INCLUDEPATH at ';' and
-# misreads a '\' in it, so its entries hold no path of the user's: they are relative to the staging directory, FreeFEM's
-# working directory, where .edp is a link to edp/
-ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
-export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 if [ -n "$np" ]; then
-  # -np N: FreeFem++-mpi's plugins; ffddm's files as installed, but ffddm.idp without its line `load "MUMPS_mpi"`:
-  # Debian does not ship MUMPS_mpi.so, and with it `include "ffddm.idp"` stops every run ("Load error: MUMPS_mpi",
-  # "cannot open shared object file"); the subdomains' solves here are CHOLMOD's or UMFPACK's (docs/parallel.md)
+  # -np N: FreeFem++-mpi's plugins, and ffddm's files as Debian can load them
   export FF_LOADPATH=/usr/lib/freefem++/mpi
-  mkdir "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
-  for f in /usr/include/freefem++/idp/ffddm*.idp; do
-    sed '/^[[:space:]]*load[[:space:]]*"MUMPS_mpi"/d' "$f" > "$stage/.ffddm/${f##*/}" 2>/dev/null || err "cannot write into $out (disk full?)" 7
-  done
+  sh "$here/lib/solve/ffddm_without_mumps.sh" "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
   export FF_INCLUDEPATH=".;.ffddm;.edp;/usr/include/freefem++/idp"
   # Open MPI refuses to start as root without these (CI runs as root)
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
-export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
-# FreeFEM writes everything to stdout. The filter keeps the driver's own lines
-# ("error:" and "warning:" ones go to stderr) and drops FreeFEM's traces, keeping
-# the first message of one for the error line. A compile error in the scene becomes
-# one line naming the scene file and the line; a file of the run that cannot be
-# opened for writing is a write failure (7). On a terminal the progress line is
-# rewritten in place; in a log every 10th is kept, and one a minute at least.
+# FreeFEM's output goes through edp/lib/run/output_filter.awk (the driver's lines; one error line).
 tty=0
 [ -t 1 ] && tty=1
 # CONTACT_DEBUG=1 also shows FreeFEM's raw output on stderr (for developers).
 raw=/dev/null
 [ -n "${CONTACT_DEBUG:-}" ] && raw=/dev/stderr
-# -np N: mpirun tags every line with its process ("[1,r]<stdout>:"); the filter keeps process 0's lines (every
-# process runs the same checks, so its errors are everyone's) and, from any process, its status line
-# "exit-status N" (run/options.idp) and FreeFEM's own error traces. A process that stops alone leaves the others
-# waiting in MPI for ever (FreeFEM's exit waits in MPI_Finalize): once the filter has seen one of those lines
-# (it writes $errfile.stop), the others get 5 s to end too, then mpirun is stopped, and the status is the one
-# the process gave (docs/parallel.md).
+# -np N: a process that stops alone leaves the others waiting in MPI for ever (FreeFEM's exit waits in
+# MPI_Finalize): once the filter has seen its status line or a crash (it writes $errfile.stop), the others get
+# 5 s to end too, then mpirun is stopped, and the status is the one the process gave (docs/parallel.md).
 # The pid of FreeFEM (or mpirun) goes into $errfile.pid, for run.sh to pass a signal on.
 run_freefem() {
   if [ -z "$np" ]; then
@@ -278,7 +239,6 @@ run_freefem() {
 awk_lines=()
 awk -W version 2>/dev/null | grep -q mawk && awk_lines=(-W interactive)
 # (run_freefem's shell reports a crash of FreeFEM, such as a segmentation fault, into the pipe.)
-# (trace: FreeFEM's error traces, and mpirun's report of a process that died; any process's stops a parallel run)
 # The pipeline runs in the background, so that a signal to run.sh is handled at once (a shell runs its traps only
 # between commands): FreeFEM (or mpirun, which stops every process) is sent SIGTERM, and run.sh waits for it to
 # end (SIGKILL after 10 s), then dies of the signal it was sent, after the clean-up below.
@@ -295,54 +255,7 @@ stop_freefem() {
 for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
 # (awk -v reads a '\' as the start of an escape: the scene's path has each doubled)
 { run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
-    -v trace='Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code' \
-    -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" '
-  function newline() { if (pending) { printf "\n"; pending = 0 } }
-  function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
-  tagged { rank = -1
-           if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
-                                                                  rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
-  tagged && /^exit-status [0-9]+$/ { stop($2); next }
-  tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
-    if ($0 ~ trace && $0 !~ /^(error|warning): /) {
-      if (detail == "") { detail = (rank < 0 ? "mpirun" : "process " rank) ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
-      stop("crash")
-    }
-    next }
-  /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
-  /^(note: |mesh |reference point: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
-  /^progress / { sub(/^progress /, "")
-                 if (tty) { printf "\r%s   ", $0; pending = 1 }
-                 else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)
-                        if (++np % 10 == 0 || el + 0 >= shown + 60) { print; shown = el + 0 } }
-                 fflush(); next }
-  /Error line number [0-9]+, in file / {
-    line = $0; sub(/.*Error line number /, "", line); sub(/,.*/, "", line)
-    token = $0; sub(/.*before  *token */, "", token)
-    file = $0; sub(/.*, in file /, "", file); sub(/, before.*/, "", file)
-    if (reason == "") reason = "syntax error"
-    if (file ~ /scene\.idp$/) {
-      newline()
-      printf "error: scene %s, line %s: %s (before \"%s\")\n", scene, line, reason, token > "/dev/stderr"
-      compile = 3
-    } else if (detail == "") detail = "compile error in " file ", line " line ": " reason
-    next
-  }
-  /^ *The Identifier .* does not exist|^ *No operator|^ Error opening file .* in: / {
-    if (reason == "") { reason = $0; gsub(/^ +| +$/, "", reason) } next }
-  /^ Error opening file / { if (opened == "") { opened = $0; sub(/^ Error opening file /, "", opened) } next }
-  /Exec error|Assertion fail|Error|error|Segmentation fault|Aborted|Killed|Out of bound|bug/ {
-    if (detail == "") { detail = $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
-    if (tagged && $0 ~ trace) stop("crash")
-    next }
-  { next }
-  END { newline()
-        if (compile) exit 3
-        # the files the run writes (io/output.idp, contact.edp): a failed open is a failed write
-        if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
-          print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
-        if (opened != "" && detail == "") detail = "cannot open " opened
-        if (detail != "") print detail > errfile }'
+    -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" -f "$here/lib/run/output_filter.awk"
   echo "${PIPESTATUS[@]}" > "$errfile.status"; } &
 pipeline=$!
 while kill -0 $pipeline 2>/dev/null; do

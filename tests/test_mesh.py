@@ -250,35 +250,28 @@ def test_3d_node_in_no_tetrahedron_is_named_in_3d(tmp_path, physical, message):
     assert not (tmp_path / "out").exists()
 
 
-MESHFILE_UNREAD = {
+MESHFILE_FORMS = {
     "one line with another statement": 'T = 0.1; meshFile = "meshes/ball.msh";\n',
     "through a variable": 'string m = "meshes/ball.msh";\nmeshFile = m;\nT = 0.1;\n',
     "concatenated": 'meshFile = "meshes/" + "ball.msh";\nT = 0.1;\n',
 }
 
 
-@pytest.mark.parametrize("form", list(MESHFILE_UNREAD))
-def test_scene_meshfile_that_run_sh_cannot_read_is_named(tmp_path, earlier_run, form):
-    """Issue 32: a scene that sets meshFile in a form edp/run.sh cannot read (it reads a line `meshFile = "...";`)
-    had its 3D mesh loaded by a driver compiled for a plane body, and was told "element 841 has type 4; only
-    points, lines and triangles are supported". The driver compares the mesh it loads with the dimension it was
-    compiled for and says why, as for -order and -material."""
+@pytest.mark.parametrize("form", list(MESHFILE_FORMS))
+def test_scene_meshfile_in_any_form_compiles_its_dimension(tmp_path, form):
+    """A scene that sets meshFile in any form runs on that mesh, compiled for its dimension: edp/run.sh reads the
+    mesh as the driver does (edp/lib/run/choices.edp) before FreeFEM compiles the driver."""
     scene = tmp_path / "ball_meshfile.idp"
-    scene.write_text(MESHFILE_UNREAD[form] + 'snapshots = "none";\nfy = 0;\nfz = -0.1;\nu0y = 0;\nu0z = 4;\n')
-    p, changed = refused_into_copy(tmp_path, earlier_run, str(scene), ["-progress", "0"])
-    errors = [line for line in p.stderr.splitlines() if line.strip()]
-    assert p.returncode == 3 and errors == [
-        "error: -mesh meshes/ball.msh has volume elements (a 3D body), but meshFile is set in a way edp/run.sh cannot "
-        "read before FreeFEM compiles the driver, which it compiled for a plane body; write it in the scene as a line "
-        '`meshFile = "meshes/ball.msh";`, or give -mesh on the command line'], p.stderr
-    assert not changed
+    scene.write_text(MESHFILE_FORMS[form] + 'snapshots = "none";\nfy = 0;\nfz = -0.1;\nu0y = 0;\nu0z = 4;\n')
+    p = run_scene(str(scene), tmp_path / "out", ["-progress", "0"])
+    assert p.stdout.startswith("mesh meshes/ball.msh: ") and " tetrahedra, " in p.stdout.splitlines()[0], p.stdout
 
 
-def test_scene_meshfile_read_as_3d_but_set_plane_is_named(tmp_path, earlier_run):
-    """The other way: run.sh reads the scene's line `meshFile = "meshes/ball.msh";` (3D), and a later statement sets
-    the disk; it was told "no tetrahedra (element type 4): mesh the Volume with gmsh -3"."""
+def test_scene_meshfile_set_from_the_dimension_is_named(tmp_path, earlier_run):
+    """A scene whose meshFile depends on the dimension compiled for: edp/run.sh reads it as for a plane body (the
+    ball), and the driver, compiled for a 3D body, is given the disk; it says so in one line."""
     scene = tmp_path / "disk_meshfile.idp"
-    scene.write_text('meshFile = "meshes/ball.msh";\nmeshFile = "meshes/" + "disk.msh";\nT = 0.1;\nsnapshots = "none";\n')
+    scene.write_text('meshFile = (dimension == 2 ? "meshes/ball.msh" : "meshes/disk.msh");\nT = 0.1;\nsnapshots = "none";\n')
     p, changed = refused_into_copy(tmp_path, earlier_run, str(scene), ["-progress", "0"])
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(errors) == 1, p.stderr

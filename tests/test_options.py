@@ -221,22 +221,26 @@ def test_scene_that_fails_when_evaluated_is_one_line(tmp_path, earlier_run):
 
 
 def test_material_is_the_scenes_unless_the_command_line_says_otherwise(tmp_path):
-    """FreeFEM compiles one material's file, so edp/run.sh reads -material as it reads -order:
-    the scene's line `material = "svk";`, then -material on the command line."""
-    scene = write_scene(tmp_path, "svkscene", 'material = "svk";\nT = 0.1;\nsnapshots = "none";\n')
+    """FreeFEM compiles one material's file, so edp/run.sh reads -material and -order before it, as the driver
+    reads them (edp/lib/run/choices.edp): the scene's value, in any form, then -material on the command line."""
+    scene = write_scene(tmp_path, "svkscene", 'string m = "svk";\nmaterial = m;\nT = 0.1;\nsnapshots = "none";\n'
+                        "macro sceneDerived() order = 1 + 1; // EOM\n")
     for args, material in [([], "svk"), (["-material", "linear"], "linear")]:
         out = tmp_path / material
         run_scene(scene, out, ["-progress", "0"] + args)
         summary = read_summary(str(out))
         assert summary["material"] == material and (int(summary["newton_iterations"]) > 0) == (material == "svk")
         assert f"-material {material}\n" in (out / "parameters.txt").read_text()
+        assert "\n-order 2\n" in (out / "parameters.txt").read_text()
 
 
 @pytest.mark.parametrize("text,message", [
     ('material = "neo-hookean";\n', "-material must be linear, svk (St Venant-Kirchhoff) or neohookean (Neo-Hookean); got 'neo-hookean'"),
-    ('string m = "svk";\nmaterial = m;\n', "-material svk is set in a way edp/run.sh cannot read before FreeFEM compiles "
-                                           "the driver; write it in the scene as a line `material = \"svk\";`"),
-], ids=["not in the table", "unreadable"])
+    ('meshFile = "meshes/ball.msh";\nfy = 0;\nfz = -0.1;\nu0y = 0;\nu0z = 4;\n'
+     'material = (dimension == 3 ? "neohookean" : "linear");\n',
+     "-material neohookean is set in a way edp/run.sh cannot read before FreeFEM compiles the driver (from the dimension "
+     "or the processes); set it in the scene without them, or give -material on the command line"),
+], ids=["not in the table", "from the dimension"])
 def test_scene_material_not_in_the_table_or_unreadable_is_refused(tmp_path, earlier_run, text, message):
     scene = write_scene(tmp_path, "material", text + 'T = 0.1;\nsnapshots = "none";\n')
     p, changed = refused_into_copy(tmp_path, earlier_run, scene, ["-progress", "0"])
