@@ -50,7 +50,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check bench accuracy stress svk csm3 hertz methods scenes clean
+.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -203,6 +203,10 @@ figures: test1 test2 | deps-plot
 # ---- tests
 check: meshes | deps-test
 	$(PYTHON) -m pytest -q --durations=15 tests
+
+# a change that must move no number (a refactor): 23 representative runs byte-identical to REV (default HEAD)
+same-results: meshes | deps-run
+	tests/same_results.sh $(REV)
 
 # ---- cost, measured side by side in one run (see postprocess/bench.py)
 bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh \
