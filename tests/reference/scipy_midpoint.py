@@ -21,8 +21,8 @@ The discretisation, exactly as the driver's:
   - v^{n+1} = 2 (x - u^n) / dt - v^n, u^{n+1} = x; u^0 = (0, 0, u0z), v^0 = 0;
   - history: u3 at the reference node (the vertex of Gamma_C with the smallest X3, ties towards the axis
     X1 = X2 = 0: the ball's lowest point (0, 0, 0)), the energy E = v'Mv / 2 + u'Ku / 2 (material/interface.idp,
-    discreteEnergy), the modified energy E - F'u (io/output.idp), the active nodes
-    (lm_j > 1e-6 int_{Gamma_C} phi_j, io/output.idp countActive) and whether the step solved the QP.
+    discreteEnergy), the modified energy E - F'u (io/history.idp), the active nodes
+    (lm_j > 1e-6 int_{Gamma_C} phi_j, contact/rows.idp countActive) and whether the step solved the QP.
 
 Use: /usr/bin/python3 tests/reference/scipy_midpoint.py --mesh meshes/ball.msh --T 120 --dt 0.05 --out history.csv
 or, from another script, run(mesh, T, dt, ...) (returns the history arrays and the timings).
@@ -40,7 +40,7 @@ import scipy.sparse.linalg as spla
 # the scene `ball` (edp/scenes/ball.idp and the driver's defaults)
 BALL = dict(rho=1.0, lam=30.0, mu=30.0, fz=-0.1, u0z=4.0, dt=0.05, T=120.0)
 HISTORY_COLUMNS = ("step", "t", "u3_low", "energy", "active_nodes", "qp_solved")
-ACTIVE_PRESSURE = 1e-6          # io/output.idp: a node is active when lm_j > 1e-6 int_{Gamma_C} phi_j
+ACTIVE_PRESSURE = 1e-6          # contact/rows.idp: a node is active when lm_j > 1e-6 int_{Gamma_C} phi_j
 MAX_ACTIVE_SET_ITERATIONS = 100  # contact/active_set.idp, activeSetMaxIterations
 
 
