@@ -1,23 +1,14 @@
 #!/usr/bin/env bash
-# run.sh SCENE OUT [-key value ...] -- one simulation of edp/contact.edp into OUT.
-#   SCENE is a name in edp/scenes/ (make scenes) or the path of a scene file (.idp).
-# run.sh SCENE OUT -restart DIR [-key value ...] continues the run in DIR from its
-#   last checkpoint, with DIR's parameters; only -T and output options may change.
-# run.sh SCENE OUT -np N [-key value ...] runs the same driver on N processes of FreeFem++-mpi
-#   (mpirun), its solves with A on ffddm (docs/parallel.md); the results are those of a serial
-#   run to the Krylov tolerance, and a run may be restarted with another N.
-#
-# Nothing of an earlier run in OUT changes until the new run is under way:
-#   - one run per OUT at a time: a lock on OUT/.lock (flock), released when the
-#     run ends, however it ends; it names its holder;
-#   - an earlier run in OUT is replaced only with FORCE=1 (or by its own restart);
-#   - FreeFEM runs in OUT/.staging and checks everything there (options, scene,
-#     mesh, initial state, checkpoint); then edp/lib/io/commit.sh moves its first
-#     files into OUT over the earlier run's, and the run goes on in OUT.
-# Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug),
-# 2 usage, 3 refused before the first step, 4 a step failed, 5 factorisation,
-# 7 a write failed; 128 + N after signal N (SIGTERM, SIGINT, SIGHUP: run.sh stops
-# FreeFEM first, then dies of the signal; one sent to FreeFEM itself is named).
+# run.sh SCENE OUT [-key value ...] -- launches one simulation of edp/contact.edp into OUT: the lock, the
+#   staging, compiled.idp, the paths, FreeFem++ (or mpirun), the exit status. SCENE is a name in edp/scenes/
+#   or the path of a scene file (.idp); -restart DIR continues the run in DIR from its last checkpoint
+#   (only -T and output options may change); -np N runs on N processes, its solves with A on ffddm (docs/parallel.md).
+# OUT changes only once the new run is under way (docs/outputs.md): a lock on OUT/.lock; an earlier run is
+#   replaced only with FORCE=1 (or by its own restart); FreeFEM checks everything in OUT/.staging, then
+#   edp/lib/io/commit.sh moves its first files into OUT.
+# Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug), 2 usage, 3 refused before the
+#   first step, 4 a step failed, 5 factorisation, 7 a write failed; 128 + N after signal N (SIGTERM, SIGINT,
+#   SIGHUP: run.sh stops FreeFEM first, then dies of the signal; one sent to FreeFEM itself is named).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -342,7 +333,7 @@ case "$rc" in
      fi ;;
 esac
 # Success is a run that reached T: committed into OUT, with the summary it writes last. A scene
-# that calls exit(0) stops FreeFEM with status 0 before that (issue 19).
+# that calls exit(0) stops FreeFEM with status 0 before that.
 if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summary.txt" ]; }; then
   if [ -e "$stage/.committed" ]; then where="after the run started; history.csv keeps the steps it made"
   else where="before the run started; $out_arg is unchanged"; fi

@@ -6,7 +6,7 @@
 # $Nodes and $Elements sections, finite coordinates, elements of type 15 (point),
 # 1 (2-node line) or 2 (3-node triangle) on existing nodes, at least one triangle,
 # every triangle counter-clockwise with a positive area, every node in a triangle,
-# and every node in one plane z = const (a 2D mesh). With -v dimension=3 (issue 25: edp/run.sh
+# and every node in one plane z = const (a 2D mesh). With -v dimension=3 (edp/run.sh
 # found tetrahedra in it): triangles are the boundary's faces, and the body is its 4-node
 # tetrahedra (type 4), each with a positive volume, every node in one.
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }

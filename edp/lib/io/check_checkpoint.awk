@@ -3,6 +3,7 @@
 # usage: CONTACT_RESTART=DIR awk -v scene=S -v nv=N -v nt=N -v ndof=N -v ncontact=N -v mesh=M -v cells=C -v nodes=D \
 #            -f run/numbers.awk -f io/check_checkpoint.awk FILE
 #   (C, D: how the messages name the mesh's cells and nodes: triangles or tetrahedra, vertices or nodes)
+
 # Format (io/checkpoint.idp, writeCheckpoint): one header line
 #   checkpoint 6 SCENE STEP T NQP MAXPEN NV NT FINGERPRINT NDOF NCONTACT NEWTON NEWTON_RETRIES MAXSTRAIN GMRES
 #                TOPOLOGY PARAMETERS_CHECKSUM DATA_CHECKSUM MAXPEN_OUTSIDE

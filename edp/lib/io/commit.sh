@@ -1,18 +1,14 @@
 #!/bin/sh
-# io/commit.sh -- the one place where a run's files reach its output directory OUT.
-# edp/contact.edp calls it from OUT/.staging, its working directory, once every
-# check has passed; edp/run.sh holds OUT's lock.
-#   io/commit.sh prepare STEP    restart from $CONTACT_RESTART (DIR): put into the staging
-#       directory DIR's history.csv up to the checkpoint's STEP (checked: the columns
-#       of expected_header.txt, rows 0..STEP complete and in order), the checkpoint
-#       run.sh copied (restart_checkpoint.txt), and the files restart_files.txt lists
-#       (the run's snapshots up to the checkpoint; each must be there)
-#   io/commit.sh commit NV NT NBE [3]  check mesh.msh (1 + NV + NT + NBE lines; a 3D body's mesh.mesh: its
-#       closing line), remove the
-#       earlier run's files that the new run does not replace, move the staged files into OUT
+# io/commit.sh -- the one place where a run's files reach its output directory OUT. edp/contact.edp calls it
+# from OUT/.staging, its working directory, once every check has passed; edp/run.sh holds OUT's lock.
+#   io/commit.sh prepare STEP   restart from $CONTACT_RESTART (DIR): stage DIR's history.csv up to the checkpoint's
+#       STEP (checked: the columns of expected_header.txt, rows 0..STEP complete and in order), the checkpoint
+#       run.sh copied (restart_checkpoint.txt), and the snapshots up to it that restart_files.txt lists (each must be there)
+#   io/commit.sh commit NV NT NBE [3]   check mesh.msh (1 + NV + NT + NBE lines; 3D: mesh.mesh's closing line),
+#       remove the earlier run's files that the new run does not replace, move the staged files into OUT
 #   io/commit.sh restore   put back the run's files that a restart into OUT itself kept aside (OUT/.restart_kept)
-# One line "error: ..." on failure: exit 3 if the restart cannot continue, 7 if a
-# copy or a move fails (disk full?). Before the moves, OUT is untouched.
+# One line "error: ..." on failure: exit 3 if the restart cannot continue, 7 if a copy or a move fails
+# (disk full?). Before the moves, OUT is untouched.
 set -u
 trap '' INT TERM HUP     # never cut in half: a signal stops the run (edp/run.sh) once the files are moved
 out=..

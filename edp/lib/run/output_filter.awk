@@ -4,12 +4,12 @@
 # A compile error in the scene becomes one line naming the scene file and the line (exit 3); a file of
 # the run that cannot be opened for writing is a write failure (exit 7). On a terminal (tty=1) the
 # progress line is rewritten in place; in a log every 10th is kept, and one a minute at least.
-# -np N (tagged=1): mpirun tags every line with its process ("[1,r]<stdout>:"); process 0's lines are
-# kept (every process runs the same checks, so its errors are everyone's) and, from any process, its
-# status line "exit-status N" (run/options.idp) and FreeFEM's own error traces: the first of those is
-# written to ERRFILE.stop, for edp/run.sh to stop the other processes.
+# -np N (tagged=1): of the lines mpirun tags "[1,r]<stdout>:", process 0's are kept (every process runs the
+# same checks), and from any process its "exit-status N" line (run/options.idp) and FreeFEM's error traces,
+# the first written to ERRFILE.stop for edp/run.sh to stop the other processes.
 # Variables: tty, tagged, scene (the scene file's path, for the error line), errfile (the detail of an
 # unexpected error is written there).
+
 # trace: FreeFEM's error traces, and mpirun's report of a process that died (any process's stops a -np run)
 BEGIN { trace = "Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code" }
 function newline() { if (pending) { printf "\n"; pending = 0 } }
@@ -53,7 +53,7 @@ tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
 { next }
 END { newline()
       if (compile) exit 3
-      # the files the run writes (io/output.idp, contact.edp): a failed open is a failed write
+      # the files the run writes (edp/lib/io/, contact.edp): a failed open is a failed write
       if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
         print "error: cannot open " opened " for writing (disk full, or the directory is not writable)" > "/dev/stderr"; exit 7 }
       if (opened != "" && detail == "") detail = "cannot open " opened
