@@ -93,6 +93,7 @@ errfile=$(mktemp 2>/dev/null) || err "cannot create a temporary file (is /tmp fu
 cleanup() {
   local committed=0
   [ -e "$stage/.committed" ] && committed=1
+  [ -z "${choices_pid:-}" ] || kill -TERM "$choices_pid" 2>/dev/null
   rm -f "$errfile" "$errfile.stop" "$errfile.pid" "$errfile.status"
   rm -rf "$stage"
   if [ $committed = 1 ] || [ "$created" = 0 ]; then
@@ -149,7 +150,13 @@ write_compiled() {   # ORDER MATERIAL MATERIAL_FILE DIMENSION PROCESSES
     > "$stage/compiled.idp" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 }
 write_compiled 1 linear material/linear.idp 2 serial
-chosen=$(cd "$stage" && FreeFem++-nw -nw -ns -v 0 "$here/lib/run/choices.edp" "${args[@]}" 2>/dev/null)
+# (in the background, so that a signal to run.sh stops it at once: cleanup stops it)
+(cd "$stage" && exec FreeFem++-nw -nw -ns -v 0 "$here/lib/run/choices.edp" "${args[@]}") > "$stage/.choices" 2>/dev/null &
+choices_pid=$!
+wait $choices_pid
+chosen=$(cat "$stage/.choices" 2>/dev/null)
+rm -f "$stage/.choices"
+choices_pid=""
 order=1 material=linear mesh_file=$root/meshes/disk.msh
 if grep -q '^choice-mesh ' <<< "$chosen"; then
   order=$(sed -n 's/^choice-order //p' <<< "$chosen" | tail -n 1)
