@@ -93,7 +93,7 @@ errfile=$(mktemp 2>/dev/null) || err "cannot create a temporary file (is /tmp fu
 cleanup() {
   local committed=0
   [ -e "$stage/.committed" ] && committed=1
-  [ -z "${choices_pid:-}" ] || kill -TERM "$choices_pid" 2>/dev/null
+  [ -z "${choices_pid:-}" ] || { kill -TERM "$choices_pid" 2>/dev/null; wait "$choices_pid" 2>/dev/null; }
   rm -f "$errfile" "$errfile.stop" "$errfile.pid" "$errfile.status"
   rm -rf "$stage"
   if [ $committed = 1 ] || [ "$created" = 0 ]; then

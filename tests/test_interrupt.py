@@ -66,7 +66,12 @@ def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     deadline = time.time() + 60
     while not freefem_running(out) and time.time() < deadline and p.poll() is None:
         time.sleep(0.05)
-    assert freefem_running(out), f"{target}: no run started"
+    if not freefem_running(out):
+        status = p.poll()
+        if status is None:
+            os.killpg(p.pid, signal.SIGKILL)
+        _, err = p.communicate()
+        raise AssertionError(f"{target}: no run started within 60 s (status {status}): {err[-2000:]}")
     time.sleep(0.3)
     os.killpg(p.pid, signal.SIGINT)                        # what a terminal's Ctrl-C does
     try:
