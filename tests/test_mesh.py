@@ -278,3 +278,16 @@ def test_scene_meshfile_set_from_the_dimension_is_named(tmp_path, earlier_run):
     assert errors[0].startswith("error: -mesh meshes/disk.msh has no volume elements (a plane body), but meshFile is set "
                                 "in a way edp/run.sh cannot read") and "compiled for a 3D body" in errors[0], errors[0]
     assert not changed
+
+
+@pytest.mark.parametrize("mesh", ["meshes", ""], ids=["a directory", "empty"])
+def test_a_mesh_that_is_a_directory_is_named(tmp_path, earlier_run, mesh):
+    """-mesh naming a directory (an empty -mesh is the caller's directory) is refused in one line naming it, exit 3,
+    the earlier run byte-identical (awk's own read error used to end the run with exit 3 and no line)."""
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", mesh, "-T", "0.1", "-progress", "0"],
+                                   cwd=ROOT)
+    errors = [line for line in p.stderr.splitlines() if line.strip()]
+    assert p.returncode == 3 and len(errors) == 1, p.stderr
+    assert errors[0].startswith(f"error: -mesh '{mesh}' names a directory (") and errors[0].endswith("), not a mesh file")
+    assert not changed
+
