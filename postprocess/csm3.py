@@ -46,7 +46,7 @@ def run_case(out, case):
     run_dir = os.path.join(out, case)
     p = run_driver("csm3", run_dir, CASES[case][1] + ["-progress", "0"], cwd=ROOT)
     if p.returncode != 0:
-        line = (p.stderr.strip().splitlines() or ["no message"])[-1]
+        line = p.last_line
         raise Failure(f"csm3 {case} failed (exit {p.returncode}): {line}")
     return case, p.wall
 

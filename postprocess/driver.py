@@ -30,6 +30,11 @@ class Run:
     def peak_MiB(self):
         return self.usage.ru_maxrss / 1024
 
+    @property
+    def last_line(self):
+        """The last line of stderr (a failed run's one error line), or "no message"."""
+        return (self.stderr.strip().splitlines() or ["no message"])[-1]
+
 
 def timed_process(cmd, merge=False, **kwargs):
     """cmd run to its end (jobs.start: its own process group, stopped by Ctrl-C): a Run. merge: stderr

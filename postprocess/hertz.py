@@ -63,7 +63,7 @@ def run_case(out, scene, case):
             "-solver", "activeset", "-snapshots", "none"] + (["-mass", mass] if mass else [])
     p = run_driver(scene, run_dir, args, log=os.path.join(out, f"{case}.log"), cwd=ROOT)
     if p.returncode != 0 or not os.path.exists(os.path.join(run_dir, "summary.txt")):
-        line = (p.stderr.strip().splitlines() or ["no message"])[-1]
+        line = p.last_line
         if mass is None:
             raise Failure(f"hertz {case} failed (exit {p.returncode}; see {case}.log): {line}")
         return case, p.wall, f"exit {p.returncode}: {line}"
