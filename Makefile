@@ -50,7 +50,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
+.PHONY: all paper plugins deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -78,7 +78,20 @@ deps-run:
 	[ -f /usr/include/freefem++/idp/getARGV.idp ] || missing="$$missing libfreefem++-dev"; \
 	command -v gmsh >/dev/null || missing="$$missing gmsh"; \
 	command -v flock >/dev/null || missing="$$missing util-linux"; \
+	command -v g++ >/dev/null || missing="$$missing g++"; \
+	[ -f /usr/include/suitesparse/cholmod.h ] || missing="$$missing libsuitesparse-dev"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
+	@$(MAKE) --no-print-directory $(PLUGIN)
+# The serial solves' plugin (edp/lib/solve/cholmod_columns.cpp: CHOLMOD's factor with its halves apart), built
+# with FreeFEM's ff-c++ into build/plugins/, where edp/run.sh loads it from
+PLUGIN = build/plugins/cholmod_columns.so
+plugins: $(PLUGIN)
+$(PLUGIN): edp/lib/solve/cholmod_columns.cpp
+	@mkdir -p build/plugins
+	@echo "building $@ (ff-c++) ..."
+	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp . && \
+	  if ff-c++ cholmod_columns.cpp -lcholmod > build.log 2>&1; then rm -f cholmod_columns.cpp cholmod_columns.o; \
+	  else grep -i -m 5 "error" build.log; echo "$@: ff-c++ failed (build/plugins/build.log)"; rm -f cholmod_columns.so; exit 1; fi
 deps-plot: deps-run
 	$(call install_missing, \
 	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
@@ -245,4 +258,4 @@ scenes:
 	@for f in edp/scenes/*.idp; do printf '%-12s %s\n' "$$(basename $$f .idp)" "$$(head -1 $$f | sed 's|^// *||')"; done
 
 clean:
-	rm -rf $(RESULTS) meshes/*.msh tests/__pycache__ .pytest_cache
+	rm -rf $(RESULTS) meshes/*.msh build tests/__pycache__ .pytest_cache

@@ -129,8 +129,10 @@ fi
 # FreeFEM's environment. FreeFEM splits FF_INCLUDEPATH at ';' and misreads a '\' in it, so its entries hold no
 # path of the user's: they are relative to the staging directory, FreeFEM's working directory, where .edp is a link
 # to edp/ (the staged compiled.idp includes lib/...)
-export FF_LOADPATH=/usr/lib/freefem++
-ln -s "$here" "$stage/.edp" 2>/dev/null || err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
+# .plugins is a link to build/plugins, where make builds the serial solves' plugin (solve/cholmod_columns.cpp).
+export FF_LOADPATH="/usr/lib/freefem++;.plugins"
+{ ln -s "$here" "$stage/.edp" && ln -s "$root/build/plugins" "$stage/.plugins"; } 2>/dev/null ||
+  err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
 export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
 # compiled.idp: the one place of what FreeFEM compiles. contact.edp includes it three times: first the order,
@@ -186,6 +188,9 @@ fi
 [ -f "$here/lib/material/$material.idp" ] || err "edp/lib/material/materials.txt lists -material $material, but edp/lib/material/$material.idp is missing" 1
 processes=serial
 [ -n "$np" ] && processes=mpi
+# a serial run's solves with A go through CHOLMOD's factor in the plugin make builds (solve/direct.idp)
+[ -n "$np" ] || [ -f "$root/build/plugins/cholmod_columns.so" ] ||
+  err "$root/build/plugins/cholmod_columns.so is missing: build it with 'make plugins' (it needs g++ and libsuitesparse-dev; 'make deps' installs them)" 1
 write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
 # IPOPT reads ipopt.opt from its working directory
 cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7

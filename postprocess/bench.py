@@ -27,6 +27,11 @@ ratios asked for:
     aims "the active-set ball within 1.5x the no-foundation run at the largest size" and "a step at
     least 3x faster than scipy's", and how the cost grows with the vertices (--ball-only: these rows
     alone, into bench_ball.md and .csv);
+  - a step against its floor: edp/limit.edp's one solve with the factor of A and one product with K on the three
+    balls and the refine-8 disk, beside Test 1 to T = 20 with the active set and without foundation, the aims
+    "no foundation within 1.2x the limit" and "the active set within 1.5x (the disk: 1.35x) the run without
+    foundation", and CHOLMOD's orderings, kinds and OpenBLAS threads on the largest meshes (--step-cost-only:
+    these rows alone, into bench_step_cost.md and .csv);
   - -np N (docs/parallel.md): the ball starting in contact on four meshes (up to ball_refine6.msh,
     87,684 vertices) on 1, 2 and 4 processes (4 oversubscribe the 2 cores) beside the serial direct solver:
     set-up, ms per step, solves and Krylov iterations per step, peak memory per process, the difference from
@@ -103,16 +108,20 @@ def main():
                    help="only the -np N cases, into bench_parallel.md and .csv and parallel.png")
     p.add_argument("--meshes", help="with --parallel-only: only these of its meshes (comma-separated names, e.g. "
                    "ball,ball_medium)")
+    p.add_argument("--step-cost-only", action="store_true",
+                   help="only the cost of a step against its floor (the limit probe, the active set, no foundation), "
+                        "into bench_step_cost.md and .csv")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    stem = "bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else "bench"
+    stem = ("bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else
+            "bench_step_cost" if a.step_cost_only else "bench")
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
-    if a.ball_only or a.parallel_only:
-        rows, text = (ball_section(a.out, a.repeat) if a.ball_only else
-                      parallel_section(a.out, a.repeat, a.meshes.split(",") if a.meshes else None))
+    if a.ball_only or a.parallel_only or a.step_cost_only:
+        rows, text = (ball_section(a.out, a.repeat) if a.ball_only else step_cost_section(a.out, a.repeat) if a.step_cost_only
+                      else parallel_section(a.out, a.repeat, a.meshes.split(",") if a.meshes else None))
         print(text)
         write_tables(a.out, stem, rows, text)
         return
@@ -263,6 +272,9 @@ def main():
     ball_rows, ball_text = ball_section(a.out, a.repeat)
     rows += ball_rows
     lines += ["", "The 3D ball (docs/3d.md):", "", ball_text]
+    step_rows, step_text = step_cost_section(a.out, a.repeat)
+    rows += step_rows
+    lines += ["", "A step against its floor (docs/bench.md):", "", step_text]
     parallel_rows, parallel_text = parallel_section(a.out, a.repeat)
     rows += parallel_rows
     lines += ["", "-np N (docs/parallel.md):", "", parallel_text]
@@ -398,6 +410,89 @@ def ball_section(out_base, repeat):
                             ms_per_step=q["ms_per_step"], newton_iterations=0, newton_retries=0, gmres_iterations=0)
                        for mesh, q in scipy.items()]
     return csv_rows, "\n".join(lines)
+
+
+# ---- the cost of a step against its floor (issue 34): the limit probe (edp/limit.edp: one solve with the factor of A
+# and one product with K, as the driver factorises A) beside the run without foundation and the active-set run
+STEP_COST_MESHES = [("ball", "meshes/ball.msh", 3), ("ball_medium", "meshes/ball_medium.msh", 3),
+                    ("ball_refine4", "meshes/ball_refine4.msh", 3), ("disk_refine8", "meshes/disk_refine8.msh", 2)]
+STEP_COST_AIMS = {"ball_refine4": (1.2, 1.5), "disk_refine8": (None, 1.35)}   # (no foundation / limit, active set / no foundation)
+# CHOLMOD's choices measured by the probe on the largest meshes: the ordering, supernodal or simplicial, OpenBLAS's threads
+SOLVE_VARIANTS = [("default", "auto", None), ("amd", "auto", None), ("metis", "auto", None), ("nesdis", "auto", None),
+                  ("default", "simplicial", None), ("default", "auto", "1")]
+
+
+def limit_probe(mesh, dim, ordering="default", kind="auto", threads=None, repeats=20):
+    """edp/limit.edp on one mesh: its key=value line as a dict (times in ms of CPU)."""
+    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + os.path.join(ROOT, "build", "plugins"),
+               FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    if threads:
+        env["OPENBLAS_NUM_THREADS"] = threads
+    r = timed_process(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh", os.path.join(ROOT, mesh),
+                       "-dim", str(dim), "-n", str(repeats), "-ordering", ordering, "-kind", kind], merge=True, env=env)
+    line = [ln for ln in r.stdout.splitlines() if ln.startswith("limit ")]
+    if r.returncode != 0 or not line:
+        sys.exit(f"bench: the limit probe failed on {mesh}:\n{r.stdout}")
+    out = dict(kv.split("=", 1) for kv in line[-1].split()[1:])
+    return {k: (v if k in ("ordering", "kind") else float(v)) for k, v in out.items()}
+
+
+def step_cost_section(out_base, repeat):
+    """For each mesh of STEP_COST_MESHES: the limit probe, and Test 1 (scene ball, or test1 on the disk) to T = 20 with
+    the active set, without foundation, and one step (the set-up). Returns (rows for bench.csv, the text)."""
+    rows, lines = [], []
+    probes, by = {}, {}
+    for mesh, path, dim in STEP_COST_MESHES:
+        print(f"bench: limit {mesh} ...", flush=True)
+        probes[mesh] = limit_probe(path, dim)
+        scene = "ball" if dim == 3 else "test1"
+        for name, args in ((f"step {mesh} set-up", ["-T", "0.05", "-solver", "activeset"]),
+                           (f"step {mesh} activeset", ["-T", BALL_T, "-solver", "activeset"]),
+                           (f"step {mesh} no foundation", ["-T", BALL_T, "-foundation", "none"])):
+            print(f"bench: {name} ...", flush=True)
+            r = timed_case(out_base, name.replace(" ", "_").replace("-", "_"), scene, ["-mesh", path] + args, repeat)
+            r["case"] = name
+            rows.append(r)
+            by[name] = r
+    def loop_ms(name, mesh):
+        run, one = by[name], by[f"step {mesh} set-up"]
+        return 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+    lines += [f"Test 1 to T = {BALL_T} (scene ball; test1 on the disk): the limit is one solve with the factor of A and one "
+              "product with K (edp/limit.edp, CPU ms, the mean of 20); ms/step is a run's wall time less its one-step "
+              "run's, per further step.", "",
+              "| mesh | dofs | limit: solve + K ms | no foundation ms/step | ÷ limit | active set ms/step | Schur columns | "
+              "active set ÷ no foundation: run (loop) |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    verdicts = []
+    for mesh, path, dim in STEP_COST_MESHES:
+        pr = probes[mesh]
+        limit = pr["solve_ms"] + pr["K_product_ms"]
+        act, none = by[f"step {mesh} activeset"], by[f"step {mesh} no foundation"]
+        none_ms, act_ms = loop_ms(f"step {mesh} no foundation", mesh), loop_ms(f"step {mesh} activeset", mesh)
+        summary = read_summary(os.path.join(out_base, f"step_{mesh}_activeset"))
+        run_ratio, loop_ratio = act["wall_s"] / none["wall_s"], act_ms / none_ms
+        lines.append(f"| {mesh} | {int(pr['dofs'])} | {limit:.2f} | {none_ms:.2f} | {none_ms / limit:.2f} | {act_ms:.2f} | "
+                     f"{summary.get('schur_solves', '-')} | {run_ratio:.2f} ({loop_ratio:.2f}) |")
+        aim_limit, aim_active = STEP_COST_AIMS.get(mesh, (None, None))
+        if aim_limit:
+            verdicts.append(f"- aim {mesh}: no foundation within {aim_limit}x the limit per step: "
+                            f"{'met' if none_ms / limit <= aim_limit else 'NOT met'} ({none_ms / limit:.2f}x)")
+        if aim_active:
+            ok = run_ratio <= aim_active and loop_ratio <= aim_active
+            verdicts.append(f"- aim {mesh}: the active set within {aim_active}x the run without foundation, over the run and "
+                            f"in the loop: {'met' if ok else 'NOT met'} ({run_ratio:.2f}x, {loop_ratio:.2f}x)")
+    lines += [""] + verdicts
+    # CHOLMOD's choices on the two largest meshes
+    lines += ["", "The factorisation's choices (edp/limit.edp; CHOLMOD's default is FreeFEM's own: AMD, METIS when AMD "
+              "fills much, supernodal for these meshes; OpenBLAS threads: all cores unless 1):", "",
+              "| mesh | ordering | kind | OpenBLAS threads | factorise s | factor entries | solve ms | halves ms |",
+              "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |"]
+    for mesh, path, dim in STEP_COST_MESHES[2:]:
+        for ordering, kind, threads in SOLVE_VARIANTS:
+            print(f"bench: limit {mesh} {ordering} {kind} {threads or 'all'} ...", flush=True)
+            pr = probes[mesh] if (ordering, kind, threads) == ("default", "auto", None) else limit_probe(path, dim, ordering, kind, threads)
+            lines.append(f"| {mesh} | {ordering} | {kind} | {threads or 'all'} | {pr['factorise_s']:.2f} | {pr['factor_entries']:.3g} | "
+                         f"{pr['solve_ms']:.2f} | {pr['halves_ms']:.2f} |")
+    return rows, "\n".join(lines)
 
 
 # ---- -np N: the ball starting in contact (IMPACT, every step a QP with new Schur columns), to

@@ -208,8 +208,9 @@ def test_reference_point_is_recorded(runs):
 
 def test_activeset_computes_only_the_schur_columns_it_needs(runs):
     """The active-set solver builds a column of S = C A^-1 C' only for a contact node that
-    becomes active: 1 solve with A per node on Test 1's flat, level foundation (psi' = 0),
-    2 on Test 2's cosine; fewer than the 49 contact vertices, and 2 x 49."""
+    becomes active or comes near (10)'s bound: 1 column per node on Test 1's flat, level foundation
+    (psi' = 0), 2 on Test 2's cosine (on the serial Cholesky factor a column is L^-1 P e_dof, a part of a
+    block forward solve; docs/solvers.md); fewer than the 49 contact vertices, and 2 x 49."""
     flat, cosine = (int(read_summary(runs[k])["schur_solves"]) for k in ("test1_activeset", "test2_activeset"))
     assert 0 < flat < 49 and 0 < cosine < 2 * 49 and cosine % 2 == 0
 

@@ -1,0 +1,85 @@
+"""The step at the cost of one solve (issue 34; docs/solvers.md, "One solve a step"): on the serial Cholesky
+factor the active set's step is one forward and one backward solve with CHOLMOD's halves of A (the plugin
+edp/lib/solve/cholmod_columns.cpp), and S = C A^-1 C' comes from sparse columns L^-1 P C', not from solves.
+What is checked here is that it is the same step: the halves give the full solve's bits, and the QP's answer
+is that of the solve-based active set (-factorization lu takes it) to round-off, with the same active sets,
+including on steps where a node outside the known set joins it (a body that starts in contact). The speed is
+measured by make bench (bench.md, "A step against its floor"), never here."""
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, error_lines, files_of, run_scene, square_mesh  # noqa: F401
+from history import read_run, read_summary
+
+PLUGINS = os.path.join(ROOT, "build", "plugins")
+
+
+@pytest.mark.parametrize("mesh,dim", [("ball", 3), ("disk", 2)])
+def test_the_factor_halves_are_the_full_solve_to_the_last_bit(mesh, dim):
+    # x = A^-1 b from cholmodSolve and from cholmodForward then cholmodBackward (P' L^-T D^-1 L^-1 P b): the
+    # step's x on a step without contact is the driver's free predictor of (4), bit for bit
+    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + PLUGINS, FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    p = subprocess.run(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh",
+                        os.path.join(ROOT, "meshes", f"{mesh}.msh"), "-dim", str(dim), "-n", "2"],
+                       capture_output=True, text=True, env=env)
+    line = [ln for ln in p.stdout.splitlines() if ln.startswith("limit ")]
+    assert p.returncode == 0 and line, p.stdout + p.stderr
+    values = dict(kv.split("=", 1) for kv in line[0].split()[1:])
+    assert values["halves_equal"] == "1"
+    assert float(values["solve_ms"]) > 0 and float(values["factor_entries"]) > 0
+
+
+def agree(a, b, columns, tol):
+    assert (a["active_nodes"] == b["active_nodes"]).all(), "the active sets differ"
+    assert (a["qp_solved"] == b["qp_solved"]).all()
+    for col in columns:
+        diff = np.abs(a[col] - b[col])
+        k = int(np.argmax(diff))
+        assert diff[k] <= tol * max(1.0, np.abs(b[col]).max()), f"{col} differs by {diff[k]:.3g} at t = {a['t'][k]}"
+
+
+@pytest.mark.parametrize("case,args", [
+    # Test 1 in 3D through the first impact (t = 8.95) and into the rebound
+    ("fall", ["-T", "12"]),
+    # the ball starting in contact at the impact speed, every step a QP from the first (-skip_free 0: the known set
+    # is empty at step 1, so the nodes that (10) binds join it after the predictor; on later steps nodes join as
+    # the contact spreads)
+    ("impact", ["-u0z", "0", "-v0z", "-0.894", "-T", "1.5", "-skip_free", "0"]),
+])
+def test_the_factor_step_is_the_solve_based_active_set(tmp_path, case, args):
+    # the QP of (4) under (10) has one solution: the step on the factor's halves (cholesky) and the one with S
+    # from solves (lu) agree to round-off, with the same active sets at every step (Prop. 1's unique solution)
+    runs = {}
+    for factorization in ("cholesky", "lu"):
+        out = tmp_path / factorization
+        run_scene("ball", out, ["-solver", "activeset", "-factorization", factorization, "-progress", "0",
+                                "-snapshots", "none"] + args)
+        runs[factorization] = out
+    a, b = read_run(runs["cholesky"]), read_run(runs["lu"])
+    agree(a, b, ["u3_low", "v3_low", "energy", "contact_force_z", "u3_mean", "v3_mean"], 1e-9)
+    assert a["active_nodes"].max() > 0
+    assert a["max_penetration"].max() < 1e-12          # (10) at every node, not only the known ones
+    # the factor's step computes a column per node that joins (a block of forward solves), not a solve per node
+    assert int(read_summary(runs["cholesky"])["schur_solves"]) >= int(read_summary(runs["lu"])["schur_solves"])
+
+
+def test_a_missing_plugin_is_one_line_and_changes_nothing(tmp_path):
+    # a serial run without build/plugins/cholmod_columns.so: exit 1 before FreeFEM starts, one line naming the file
+    # and how to build it; the earlier run's files are byte-identical
+    root = tmp_path / "tree"
+    root.mkdir()
+    shutil.copytree(os.path.join(ROOT, "edp"), root / "edp", symlinks=True)
+    shutil.copytree(os.path.join(ROOT, "meshes"), root / "meshes", ignore=shutil.ignore_patterns("*refine*", "*medium*"))
+    earlier = tmp_path / "earlier"
+    run_scene("test1", earlier, ["-T", "0.2", "-progress", "0"])
+    before = files_of(earlier)
+    p = subprocess.run([str(root / "edp" / "run.sh"), "test1", str(earlier), "-T", "0.4"], capture_output=True, text=True,
+                       env=dict(os.environ, FORCE="1"))
+    assert p.returncode == 1
+    lines = error_lines(p)
+    assert len(lines) == 1 and "cholmod_columns.so is missing" in lines[0] and "make plugins" in lines[0], p.stderr
+    assert files_of(earlier) == before
