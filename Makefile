@@ -50,7 +50,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper plugins deps deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
+.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -71,7 +71,11 @@ define install_missing
 	  fi; \
 	fi
 endef
-deps-run:
+# The serial solves' plugin (edp/lib/solve/cholmod_columns.cpp: CHOLMOD's factor with its halves apart), built
+# with FreeFEM's ff-c++ into build/plugins/, where edp/run.sh loads it from
+PLUGIN = build/plugins/cholmod_columns.so
+deps-run: $(PLUGIN)
+deps-packages:
 	$(call install_missing, \
 	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \
 	[ -f /usr/lib/freefem++/ff-Ipopt.so ] || missing="$$missing libfreefem++"; \
@@ -81,12 +85,8 @@ deps-run:
 	command -v g++ >/dev/null || missing="$$missing g++"; \
 	[ -f /usr/include/suitesparse/cholmod.h ] || missing="$$missing libsuitesparse-dev"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
-	@$(MAKE) --no-print-directory $(PLUGIN)
-# The serial solves' plugin (edp/lib/solve/cholmod_columns.cpp: CHOLMOD's factor with its halves apart), built
-# with FreeFEM's ff-c++ into build/plugins/, where edp/run.sh loads it from
-PLUGIN = build/plugins/cholmod_columns.so
 plugins: $(PLUGIN)
-$(PLUGIN): edp/lib/solve/cholmod_columns.cpp
+$(PLUGIN): edp/lib/solve/cholmod_columns.cpp | deps-packages
 	@mkdir -p build/plugins
 	@echo "building $@ (ff-c++) ..."
 	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp . && \

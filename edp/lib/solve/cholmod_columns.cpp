@@ -42,14 +42,8 @@ ColumnFactor *factorOf(long h) {
 // a dense view of a contiguous FreeFEM array (no copy)
 cholmod_dense view(double *p, long n, long ncol = 1) {
   cholmod_dense d;
-  d.nrow = n;
-  d.ncol = ncol;
-  d.nzmax = n * ncol;
-  d.d = n;
-  d.x = p;
-  d.z = nullptr;
-  d.xtype = CHOLMOD_REAL;
-  d.dtype = CHOLMOD_DOUBLE;
+  d.nrow = n;  d.ncol = ncol;  d.nzmax = n * ncol;  d.d = n;  d.x = p;  d.z = nullptr;
+  d.xtype = CHOLMOD_REAL;  d.dtype = CHOLMOD_DOUBLE;
   return d;
 }
 
@@ -100,26 +94,13 @@ long factorise(Matrice_Creuse< double > *const &pA, string *const &ordering, str
     A.nzmax = H->nnz;
   } else
     A.nzmax = H->CSC_U(Ap, Ai, Ax);
-  A.p = Ap;
-  A.i = Ai;
-  A.x = Ax;
-  A.nz = nullptr;
-  A.z = nullptr;
-  A.stype = 1;
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_REAL;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
+  A.p = Ap;  A.i = Ai;  A.x = Ax;  A.nz = nullptr;  A.z = nullptr;
+  A.stype = 1;  A.itype = CHOLMOD_INT;  A.xtype = CHOLMOD_REAL;  A.dtype = CHOLMOD_DOUBLE;  A.sorted = 1;  A.packed = 1;
   f->n = H->n;
   f->L = cholmod_analyze(&A, &f->c);
   if (!f->L) ExecError("cholmod_columns: the analysis of A failed");
   cholmod_factorize(&A, f->L, &f->c);
-  if (!H->half) {    // (CSC_U made copies)
-    delete[] Ap;
-    delete[] Ai;
-    delete[] Ax;
-  }
+  if (!H->half) { delete[] Ap;  delete[] Ai;  delete[] Ax; }    // (CSC_U made copies)
   if (f->c.status != CHOLMOD_OK || f->L->minor < (size_t)f->n) {
     cholmod_free_factor(&f->L, &f->c);
     cholmod_finish(&f->c);
