@@ -16,6 +16,9 @@ runs() {   # TREE OUT: the 23 runs of TREE, made at $work/tree
   rm -rf "$work/tree"
   cp -a "$1" "$work/tree" && rm -rf "$work/tree/results" "$work/tree/.git"
   cd "$work/tree" || exit 2
+  # a tree whose serial solves need the plugin (solve/cholmod_columns.cpp) builds it (the working tree's copy has
+  # it up to date, a worktree of REV has no build/)
+  if [ -f edp/lib/solve/cholmod_columns.cpp ]; then make -s plugins > /dev/null || { echo "error: cannot build the plugin of $1" >&2; exit 2; }; fi
   local o=$2 t=$2/rs
   mkdir -p "$o"
   run() { local name=$1 scene=$2; shift 2
