@@ -67,6 +67,12 @@ def case_table(rows):
     return lines
 
 
+def ms_after_first_step(run, one):
+    """The cost of a step in the time loop: the run's wall time less its one-step run's (set-up and the first step),
+    in ms per further step."""
+    return 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+
+
 def timed_case(out_base, name, scene, args, repeat, allow_stop=False):
     """case_row, repeated when short: the median wall and CPU time, and their spread."""
     runs = [case_row(out_base, name, scene, args, allow_stop)]
@@ -252,7 +258,7 @@ def main():
               "| --- | ---: | ---: | ---: | ---: |"]
     for mesh, _ in big:
         one, run = by[f"test1 activeset {mesh} T=0.05"], by[f"test1 activeset {mesh} T=20"]
-        per_step = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+        per_step = ms_after_first_step(run, one)
         lines.append(f"| {mesh} | {read_summary(os.path.join(a.out, f'test1_activeset_{mesh}_T20'))['vertices']} | "
                      f"{one['wall_s']:.2f} | {run['wall_s']:.2f} | {per_step:.2f} |")
     paper = by["methods paper"]
@@ -341,8 +347,7 @@ def ball_section(out_base, repeat):
                                for mesh, q in scipy.items()])
     # the time loop's cost per step: the run to BALL_T less the one-step run (set-up and the first step)
     def loop_ms(name, mesh):
-        run, one = by[name], by[f"ball {mesh} set-up"]
-        return 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+        return ms_after_first_step(by[name], by[f"ball {mesh} set-up"])
     lines += ["", f"Test 1 in 3D (scene ball) to T = {BALL_T} ({by['ball ball activeset']['steps']} "
               "steps): set-up is the wall time of a one-step run, ms/step the rest of the run's wall time per further step.", "",
               "| mesh | vertices | dofs | Gamma_C nodes | set-up s | peak MiB | active set: ms/step | QP steps | Schur solves | "
@@ -425,15 +430,14 @@ SOLVE_VARIANTS = [("default", "auto", None), ("amd", "auto", None), ("metis", "a
 def limit_probe(mesh, dim, ordering="default", kind="auto", threads=None, repeats=20):
     """edp/limit.edp on one mesh: its key=value line as a dict. Its own times are CPU ms (FreeFEM has no finer wall
     clock), which count OpenBLAS's threads too; so it runs twice, with 1 and 1 + R repetitions (R >= repeats, about 3 s
-    of them), and the wall
-    time of a repetition (a solve, the two halves, a product with K) is split in the ratio of their CPU times
-    (solve_wall_ms, halves_wall_ms, K_product_wall_ms)."""
+    of them), and the wall time of a repetition (a solve, the two halves, a product with K) is split in the ratio of
+    their CPU times (solve_wall_ms, halves_wall_ms, K_product_wall_ms)."""
     env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + os.path.join(ROOT, "build", "plugins"),
                FF_INCLUDEPATH="/usr/include/freefem++/idp")
     if threads:
         env["OPENBLAS_NUM_THREADS"] = threads
     runs, n = [], 1
-    for _ in range(2):
+    for probe in range(2):
         r = timed_process(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh",
                            os.path.join(ROOT, mesh), "-dim", str(dim), "-n", str(n), "-ordering", ordering, "-kind", kind],
                           merge=True, env=env)
@@ -441,9 +445,9 @@ def limit_probe(mesh, dim, ordering="default", kind="auto", threads=None, repeat
         if r.returncode != 0 or not line:
             sys.exit(f"bench: the limit probe failed on {mesh}:\n{r.stdout}")
         runs.append((r.wall, dict(kv.split("=", 1) for kv in line[-1].split()[1:])))
-        # the second probe repeats enough for about 3 s of them (at least `repeats`)
-        cpu_first = sum(float(runs[0][1][k]) for k in ("solve_ms", "halves_ms", "K_product_ms"))
-        n = 1 + max(repeats, min(20000, int(3000 / max(cpu_first, 1e-3))))
+        if probe == 0:    # the second probe repeats enough for about 3 s of them (at least `repeats`)
+            cpu_first = sum(float(runs[0][1][k]) for k in ("solve_ms", "halves_ms", "K_product_ms"))
+            n = 1 + max(repeats, min(20000, int(3000 / max(cpu_first, 1e-3))))
     repeats = n - 1
     out = {k: (v if k in ("ordering", "kind") else float(v)) for k, v in runs[1][1].items()}
     per_rep = 1000 * (runs[1][0] - runs[0][0]) / repeats
@@ -471,8 +475,7 @@ def step_cost_section(out_base, repeat):
             rows.append(r)
             by[name] = r
     def loop_ms(name, mesh):
-        run, one = by[name], by[f"step {mesh} set-up"]
-        return 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+        return ms_after_first_step(by[name], by[f"step {mesh} set-up"])
     lines += [f"Test 1 to T = {BALL_T} (scene ball; test1 on the disk): the limit is one solve with the factor of A and one "
               "product with K (edp/limit.edp: wall ms, from two probes' difference, split by their CPU times); ms/step is a run's wall time less its one-step "
               "run's, per further step.", "",
@@ -553,7 +556,7 @@ def parallel_section(out_base, repeat, only=None):
             who = f"np {n}" if n else "serial"
             one, run = by[f"parallel {mesh} {who} T=0.05"], by[f"parallel {mesh} {who} T={PARALLEL_T[mesh]}"]
             summary = read_summary(runs[(mesh, n)])
-            ms = 1000 * (run["wall_s"] - one["wall_s"]) / (run["steps"] - 1)
+            ms = ms_after_first_step(run, one)
             solves = int(summary["schur_solves"]) + run["steps"] + run["qp_steps"]
             krylov = int(summary["krylov_iterations"]) / max(1, int(summary["krylov_solves"]))
             serial = serial or (run, ms)

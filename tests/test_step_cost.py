@@ -12,7 +12,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import ROOT, error_lines, files_of, run_scene, square_mesh  # noqa: F401
+from conftest import ROOT, error_lines, files_of, run_scene
 from history import read_run, read_summary
 
 PLUGINS = os.path.join(ROOT, "build", "plugins")

@@ -3,7 +3,7 @@
 // its two triangular halves apart (P A P' = L D L' when CHOLMOD keeps a simplicial factor: D = I for L L'), and
 // columns W_k = L^-1 P e_d kept sparse. With W = L^-1 P C' the Schur complement of the contact rows is
 // S = C A^-1 C' = W' D^-1 W, C A^-1 b = W' D^-1 (L^-1 P b) and A^-1 (b - C' lm) = P' L^-T D^-1 (L^-1 P b - W lm):
-// a step with contact costs one forward and one backward solve, the cost of one solve (contact/active_set.idp).
+// a step with contact costs one forward and one backward solve, the cost of one solve (contact/active_set_factor.idp).
 //
 //   int h = cholmodFactor(A, ordering, kind)  ordering: default (CHOLMOD's own choice, FreeFEM's), amd, metis,
 //                                             nesdis; kind: auto, supernodal, simplicial. -1: A not positive definite
@@ -125,20 +125,20 @@ long solveFull(const long &h, KN< double > *const &x, KN< double > *const &b) {
   return 0;
 }
 
-long forward(const long &h, KN< double > *const &y, KN< double > *const &b) {
+// out = second(first(in)): a half of the solve, its permutation on the outer side
+long twoSystems(const long &h, KN< double > *out, KN< double > *in, int first, int second, const char *outName,
+                const char *inName) {
   ColumnFactor *f = factorOf(h);
   std::vector< double > t(f->n);
-  solveInto(f, CHOLMOD_P, t.data( ), contiguous(b, f->n, "b"));
-  solveInto(f, CHOLMOD_L, output(y, f->n, "y"), t.data( ));
+  solveInto(f, first, t.data( ), contiguous(in, f->n, inName));
+  solveInto(f, second, output(out, f->n, outName), t.data( ));
   return 0;
 }
-
+long forward(const long &h, KN< double > *const &y, KN< double > *const &b) {
+  return twoSystems(h, y, b, CHOLMOD_P, CHOLMOD_L, "y", "b");
+}
 long backward(const long &h, KN< double > *const &x, KN< double > *const &y) {
-  ColumnFactor *f = factorOf(h);
-  std::vector< double > t(f->n);
-  solveInto(f, CHOLMOD_DLt, t.data( ), contiguous(y, f->n, "y"));
-  solveInto(f, CHOLMOD_Pt, output(x, f->n, "x"), t.data( ));
-  return 0;
+  return twoSystems(h, x, y, CHOLMOD_DLt, CHOLMOD_Pt, "x", "y");
 }
 
 // W_k = L^-1 P e_d for the given dofs, solved in blocks of right-hand sides and kept sparse (the entries of a
