@@ -7,12 +7,13 @@ import numpy as np
 
 
 def read_csv(path):
-    """A headed CSV as a dict of float arrays (lines starting with # are skipped)."""
+    """A headed CSV as a dict of float arrays (lines starting with # are skipped; an empty cell, a value not
+    computed at that step (history.csv's max_strain and min_J under -diagnostics_every), is NaN)."""
     with open(path) as f:
         rows = [line for line in f if not line.startswith("#")]
     reader = csv.reader(rows)
     header = next(reader)
-    data = np.array([[float(x) for x in row] for row in reader if row])
+    data = np.array([[float(x) if x != "" else np.nan for x in row] for row in reader if row])
     return {name: data[:, k] for k, name in enumerate(header)}
 
 
