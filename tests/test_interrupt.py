@@ -55,6 +55,20 @@ def freefem_running(out):
     return False
 
 
+def group_commands(pgid):
+    """The command lines of the processes of process group pgid, with their states."""
+    found = []
+    for pid in os.listdir("/proc"):
+        try:
+            fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+            if pid.isdigit() and int(fields[2]) == pgid:
+                cmd = open(f"/proc/{pid}/cmdline", "rb").read().replace(b"\0", b" ").decode(errors="replace")
+                found.append(f"{fields[0]} {cmd.strip()[:200]}")
+        except (OSError, IndexError, ValueError):
+            continue
+    return found
+
+
 @pytest.mark.parametrize("target", list(TARGETS))
 def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     args, summary = TARGETS[target]
@@ -68,10 +82,11 @@ def test_ctrl_c_stops_the_target_whole(tmp_path, target):
         time.sleep(0.05)
     if not freefem_running(out):
         status = p.poll()
+        group = group_commands(p.pid)       # (what the target was doing instead: for the failure's line)
         if status is None:
             os.killpg(p.pid, signal.SIGKILL)
         _, err = p.communicate()
-        raise AssertionError(f"{target}: no run started within 60 s (status {status}): {err[-2000:]}")
+        raise AssertionError(f"{target}: no run started within 60 s (status {status}; its processes: {group}): {err[-2000:]}")
     time.sleep(0.3)
     os.killpg(p.pid, signal.SIGINT)                        # what a terminal's Ctrl-C does
     try:
