@@ -429,37 +429,27 @@ SOLVE_VARIANTS = [("default", "auto", None), ("amd", "auto", None), ("metis", "a
 
 
 def limit_probe(mesh, dim, ordering="default", kind="auto", threads=None, repeats=20):
-    """edp/limit.edp on one mesh: its key=value line as a dict. Its own times are CPU ms (FreeFEM has no finer wall
-    clock), which count OpenBLAS's threads too; so it runs three times: once with one repetition of everything, once
-    with 1 + R solves and products with K (R >= repeats, about 3 s of them), once with 1 + R pairs of halves. The
-    wall time of R solves and products is the floor's (floor_wall_ms), that of R pairs the halves' (halves_wall_ms);
-    a product with K is serial, so its CPU time is its wall time (K_product_wall_ms), and the solve's is the floor's
-    rest (solve_wall_ms)."""
+    """edp/limit.edp on one mesh: its key=value line as a dict, its CPU ms (FreeFEM's clock(), which counts
+    OpenBLAS's threads) and wall ms (the plugin's steady clock) of a solve, of the two halves and of a product with K,
+    over at least `repeats` repetitions and about 3 s of them (a first probe of one repetition sets their number)."""
     env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + os.path.join(ROOT, "build", "plugins"),
                FF_INCLUDEPATH="/usr/include/freefem++/idp")
     if threads:
         env["OPENBLAS_NUM_THREADS"] = threads
 
-    def probe(n, halves):
+    def probe(n):
         r = timed_process(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh",
-                           os.path.join(ROOT, mesh), "-dim", str(dim), "-n", str(n), "-halves", str(halves),
-                           "-ordering", ordering, "-kind", kind], merge=True, env=env)
+                           os.path.join(ROOT, mesh), "-dim", str(dim), "-n", str(n), "-ordering", ordering, "-kind", kind],
+                          merge=True, env=env)
         line = [ln for ln in r.stdout.splitlines() if ln.startswith("limit ")]
         if r.returncode != 0 or not line:
             sys.exit(f"bench: the limit probe failed on {mesh}:\n{r.stdout}")
-        return r.wall, dict(kv.split("=", 1) for kv in line[-1].split()[1:])
+        values = dict(kv.split("=", 1) for kv in line[-1].split()[1:])
+        return {k: (v if k in ("ordering", "kind") else float(v)) for k, v in values.items()}
 
-    base_wall, first = probe(1, 1)
-    cpu_first = sum(float(first[k]) for k in ("solve_ms", "halves_ms", "K_product_ms"))
-    n = max(repeats, min(20000, int(3000 / max(cpu_first, 1e-3))))     # about 3 s of repetitions, at least `repeats`
-    floor_wall, values = probe(1 + n, 1)
-    halves_wall, _ = probe(1, 1 + n)
-    out = {k: (v if k in ("ordering", "kind") else float(v)) for k, v in values.items()}
-    out["floor_wall_ms"] = 1000 * (floor_wall - base_wall) / n
-    out["halves_wall_ms"] = 1000 * (halves_wall - base_wall) / n
-    out["K_product_wall_ms"] = out["K_product_ms"]
-    out["solve_wall_ms"] = out["floor_wall_ms"] - out["K_product_ms"]
-    return out
+    first = probe(1)
+    wall = sum(first[k] for k in ("solve_wall_ms", "halves_wall_ms", "K_product_wall_ms"))
+    return probe(max(repeats, min(20000, int(3000 / max(wall, 1e-3)))))
 
 
 def step_cost_section(out_base, repeat):
@@ -484,7 +474,7 @@ def step_cost_section(out_base, repeat):
     def loop_ms(name, mesh):
         return ms_after_first_step(by[name], by[f"step {mesh} set-up"])
     lines += [f"Test 1 to T = {BALL_T} (scene ball; test1 on the disk): the limit is one solve with the factor of A and one "
-              "product with K (edp/limit.edp: wall ms, the difference of two probes with 1 and 1 + R of them); ms/step is a run's wall time less its one-step "
+              "product with K (edp/limit.edp: wall ms, on a steady clock); ms/step is a run's wall time less its one-step "
               f"run's, per further step; \"thin\": with -diagnostics_every {STEP_COST_DIAGNOSTICS_EVERY} (history.csv's max_strain "
               "every that many steps: docs/outputs.md).", "",
               "| mesh | dofs | limit: solve + K ms | no foundation ms/step | ÷ limit | thin ms/step | ÷ limit | active set ms/step | "
@@ -492,7 +482,7 @@ def step_cost_section(out_base, repeat):
     verdicts = []
     for mesh, path, dim in STEP_COST_MESHES:
         pr = probes[mesh]
-        limit = pr["floor_wall_ms"]
+        limit = pr["solve_wall_ms"] + pr["K_product_wall_ms"]
         act, none = by[f"step {mesh} activeset"], by[f"step {mesh} no foundation"]
         none_ms, act_ms = loop_ms(f"step {mesh} no foundation", mesh), loop_ms(f"step {mesh} activeset", mesh)
         thin_ms = loop_ms(f"step {mesh} no foundation thin", mesh)

@@ -16,20 +16,20 @@
 //   cholmodColumnGram(h, rows, col, out)      out[i] = W_{rows[i]}' D^-1 W_col
 //   real e = cholmodColumnEntries(h)          the entries kept for the columns
 //   real s = cholmodFactorEntries(h)          the entries of L
+//   real t = wallSeconds()                    a steady wall clock, in seconds (FreeFEM's time() counts whole seconds)
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
 #include <vector>
+#include <chrono>
 
 namespace {
 struct ColumnFactor {
   cholmod_common c;
-  cholmod_factor *L = nullptr;
-  long n = 0;
+  cholmod_factor *L = nullptr;  long n = 0;
   std::vector< std::vector< int > > index;    // the nonzero rows of each column W_k
   std::vector< std::vector< double > > value;
-  std::vector< double > scatter;              // D^-1 W_col scattered, for the Gram products
-  std::vector< double > dinv;                 // D^-1 (1 for L L')
+  std::vector< double > scatter, dinv;        // D^-1 W_col scattered (the Gram products); D^-1 (1 for L L')
   double entries = 0;
 };
 std::vector< ColumnFactor * > factors;
@@ -234,10 +234,8 @@ long columnGram(const long &h, KN< long > *const &rows, const long &col, KN< dou
 }
 
 double columnEntries(const long &h) { return factorOf(h)->entries; }
-double factorEntries(const long &h) {
-  ColumnFactor *f = factorOf(h);
-  return f->L->is_super ? (double)f->L->xsize : (double)f->L->nzmax;
-}
+double factorEntries(const long &h) { cholmod_factor *L = factorOf(h)->L;  return L->is_super ? (double)L->xsize : (double)L->nzmax; }
+double wallSeconds( ) { return std::chrono::duration< double >(std::chrono::steady_clock::now( ).time_since_epoch( )).count( ); }
 }    // namespace
 
 static void Load_Init( ) {
@@ -254,6 +252,7 @@ static void Load_Init( ) {
              new OneOperator4_< long, long, KN< long > *, long, KN< double > * >(columnGram));
   Global.Add("cholmodColumnEntries", "(", new OneOperator1_< double, long >(columnEntries));
   Global.Add("cholmodFactorEntries", "(", new OneOperator1_< double, long >(factorEntries));
+  Global.Add("wallSeconds", "(", new OneOperator0< double >(wallSeconds));
 }
 
 LOADFUNC(Load_Init)
