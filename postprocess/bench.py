@@ -51,7 +51,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
-from driver import ROOT, case_row, timed_process  # noqa: E402
+from driver import ROOT, case_row, freefem_env, timed_process  # noqa: E402
 from history import read_run, read_summary  # noqa: E402
 from methods import RUNNING_METHODS as METHODS  # noqa: E402 (the classical Newmark stops: not timed)
 
@@ -432,10 +432,7 @@ def limit_probe(mesh, dim, ordering="default", kind="auto", threads=None, repeat
     """edp/limit.edp on one mesh: its key=value line as a dict, its CPU ms (FreeFEM's clock(), which counts
     OpenBLAS's threads) and wall ms (the plugin's steady clock) of a solve, of the two halves and of a product with K,
     over at least `repeats` repetitions and about 3 s of them (a first probe of one repetition sets their number)."""
-    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + os.path.join(ROOT, "build", "plugins"),
-               FF_INCLUDEPATH="/usr/include/freefem++/idp")
-    if threads:
-        env["OPENBLAS_NUM_THREADS"] = threads
+    env = freefem_env(**({"OPENBLAS_NUM_THREADS": threads} if threads else {}))
 
     def probe(n):
         r = timed_process(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh",

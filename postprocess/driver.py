@@ -13,6 +13,14 @@ from history import error_lines, guard_stop, read_run, read_summary  # noqa: E40
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
+PLUGINS = os.path.join(ROOT, "build", "plugins")
+
+
+def freefem_env(**extra):
+    """The environment of a FreeFEM script run outside edp/run.sh (edp/limit.edp, the tests' unit scripts): Debian's
+    plugins and the suite's (build/plugins, `make plugins`), FreeFEM's .idp files; extra: more variables."""
+    return dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + PLUGINS, FF_INCLUDEPATH="/usr/include/freefem++/idp",
+                **extra)
 
 
 class Run:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, error_lines, files_of, run_scene, run_scenes
+from driver import freefem_env
 from golden import compare
 from history import read_run
 
@@ -233,7 +234,7 @@ def test_neohookean_tangent_and_energy_identity_at_a_random_state(seed):
     fields): the consistent tangent against central differences of N (<= 1e-6), Gonzalez's identity
     N(x).(x - u^n) = W(x) - W(u^n) to round-off, N'(0) = K / 2 (the linear form), N against the gradient of
     W for a vanishing step, and a mirrored state's infinite energy, refused by N."""
-    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++", FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    env = freefem_env()
     p = subprocess.run(["FreeFem++-nw", "-nw", "-ns", "-v", "0", "tests/edp/neohookean3_unit.edp", "-mesh", BALL,
                         "-seed", str(seed)], cwd=ROOT, capture_output=True, text=True, env=env)
     assert p.returncode == 0, p.stdout + p.stderr

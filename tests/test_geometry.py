@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, error_lines, refused_into_copy, run_scene
+from driver import freefem_env
 from golden import compare
 from history import read_parameters, read_run, read_summary
 
@@ -266,7 +267,7 @@ def test_csm1_static_matches_the_published_values():
     cylinder, at P2 on meshes/csm3.msh: u(A) within 0.5% of (-7.187, -66.10) x 1e-3
     (measured -0.30% and -0.17%; -0.09% and -0.05% on the mesh refined once), with
     Newton converging in at most 10 iterations."""
-    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++", FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    env = freefem_env()
     p = subprocess.run(["FreeFem++-nw", "-nw", "-ns", "-v", "0", "tests/edp/csm1.edp", "-mesh", "meshes/csm3.msh"],
                        cwd=ROOT, capture_output=True, text=True, env=env)
     line = [l for l in p.stdout.splitlines() if l.startswith("csm1 ")]

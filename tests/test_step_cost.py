@@ -13,16 +13,14 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, error_lines, files_of, run_scene
+from driver import freefem_env
 from history import read_run, read_summary
-
-PLUGINS = os.path.join(ROOT, "build", "plugins")
-
 
 @pytest.mark.parametrize("mesh,dim", [("ball", 3), ("disk", 2)])
 def test_the_factor_halves_are_the_full_solve_to_the_last_bit(mesh, dim):
     # x = A^-1 b from cholmodSolve and from cholmodForward then cholmodBackward (P' L^-T D^-1 L^-1 P b): the
     # step's x on a step without contact is the driver's free predictor of (4), bit for bit
-    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++;" + PLUGINS, FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    env = freefem_env()
     p = subprocess.run(["FreeFem++-nw", "-nw", "-v", "0", os.path.join(ROOT, "edp", "limit.edp"), "-mesh",
                         os.path.join(ROOT, "meshes", f"{mesh}.msh"), "-dim", str(dim), "-n", "2"],
                        capture_output=True, text=True, env=env)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, SMALL_LOADS, error_lines, run_scene
+from driver import freefem_env
 from golden import compare
 from history import read_csv, read_parameters, read_summary
 
@@ -21,7 +22,7 @@ NEWTON_TOL = 1e-10      # -newton_tol default: |R + C'lm| relative to its terms
 def run_unit(seed, order=1, material="svk", scale=None):
     """tests/edp/<material>_unit.edp (P1) or <material>_unit_p2.edp (P2) at a random state (a 1 rad
     rotation plus smooth fields of amplitude scale, 0.1 by default)."""
-    env = dict(os.environ, FF_LOADPATH="/usr/lib/freefem++", FF_INCLUDEPATH="/usr/include/freefem++/idp")
+    env = freefem_env()
     script = f"tests/edp/{material}_unit.edp" if order == 1 else f"tests/edp/{material}_unit_p2.edp"
     p = subprocess.run(["FreeFem++-nw", "-nw", "-ns", "-v", "0", script, "-mesh", "meshes/disk.msh",
                         "-seed", str(seed)] + (["-scale", str(scale)] if scale else []), cwd=ROOT, capture_output=True,

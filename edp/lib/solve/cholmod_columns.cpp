@@ -148,11 +148,10 @@ long backward(const long &h, KN< double > *const &x, KN< double > *const &y) {
 long addColumns(const long &h, KN< long > *const &dofs) {
   ColumnFactor *f = factorOf(h);
   const long first = f->index.size( ), m = dofs->N( ), block = 8;
-  std::vector< double > B, X;
+  std::vector< double > B, X(f->n * block);     // (X: each solve writes it whole)
   for (long k0 = 0; k0 < m; k0 += block) {
     long nb = std::min(block, m - k0);
     B.assign(f->n * block, 0.);
-    X.assign(f->n * block, 0.);
     for (long k = 0; k < nb; ++k) {
       long d = (*dofs)[k0 + k];
       if (d < 0 || d >= f->n) ExecError("cholmod_columns: a dof is out of range");
