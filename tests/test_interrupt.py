@@ -69,6 +69,29 @@ def group_commands(pgid):
     return found
 
 
+# How long a target may take to start its first FreeFEM run: 0.3 to 2 s alone, but CI's shared machine has twice
+# stalled past 60 s (make accuracy on 3e9073e, make methods through make on 4a4500f, stderr empty both times).
+# What is checked is what Ctrl-C does once a run is going, not how fast one starts.
+START_SECONDS = 180
+
+
+def wait_for_a_run(p, out, target):
+    """Wait until p (a target in its own process group) has a FreeFEM run working in out; otherwise kill the group
+    and fail with one line: the target's status, its processes and the end of its stderr."""
+    deadline = time.time() + START_SECONDS
+    while not freefem_running(out) and time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)
+    if freefem_running(out):
+        return
+    status = p.poll()
+    group = group_commands(p.pid)       # (what the target was doing instead)
+    if status is None:
+        os.killpg(p.pid, signal.SIGKILL)
+    _, err = p.communicate()
+    raise AssertionError(f"{target}: no run started within {START_SECONDS} s (status {status}; its processes: {group}): "
+                         f"{err[-2000:]}")
+
+
 @pytest.mark.parametrize("target", list(TARGETS))
 def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     args, summary = TARGETS[target]
@@ -77,16 +100,7 @@ def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     (out / summary).write_text("an earlier run's summary\n")
     p = subprocess.Popen([PYTHON] + args + ["--out", str(out)], cwd=ROOT, stdout=subprocess.DEVNULL,
                          stderr=subprocess.PIPE, text=True, start_new_session=True)
-    deadline = time.time() + 60
-    while not freefem_running(out) and time.time() < deadline and p.poll() is None:
-        time.sleep(0.05)
-    if not freefem_running(out):
-        status = p.poll()
-        group = group_commands(p.pid)       # (what the target was doing instead: for the failure's line)
-        if status is None:
-            os.killpg(p.pid, signal.SIGKILL)
-        _, err = p.communicate()
-        raise AssertionError(f"{target}: no run started within 60 s (status {status}; its processes: {group}): {err[-2000:]}")
+    wait_for_a_run(p, out, target)
     time.sleep(0.3)
     os.killpg(p.pid, signal.SIGINT)                        # what a terminal's Ctrl-C does
     try:
@@ -196,10 +210,7 @@ def test_ctrl_c_of_a_make_study_target_is_130(tmp_path):
     p = subprocess.Popen(["make", "--no-print-directory", "methods", f"RESULTS={results}", "JOBS=1"], cwd=ROOT,
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True, env=env)
     out = results / "methods"
-    deadline = time.time() + 60
-    while not freefem_running(out) and time.time() < deadline and p.poll() is None:
-        time.sleep(0.05)
-    assert freefem_running(out), "no run started"
+    wait_for_a_run(p, out, "make methods")
     time.sleep(0.3)
     status, _, err = interrupt(p, 15)
     assert status in (-signal.SIGINT, 130), status
