@@ -224,6 +224,15 @@ BAD_GEOMETRY = {
     "order 3": ("test1", ["-order", "3"], "-order must be an integer in [1, 2], got '3'"),
     "no such contact label": ("test1", ["-contact_label", "7", "-foundation", "none"],
                               "has no boundary edge with label 7 (Gamma_C, -contact_label); its labels are 1 2"),
+    # Gamma_C on several labels (-contact_label 1,2): each once, each on the mesh, digits and commas only
+    "a contact label twice": ("test1", ["-contact_label", "1,1"],
+                              "-contact_label names label 1 twice: give each label of Gamma_C once"),
+    "a listed contact label not on the mesh": ("test1", ["-contact_label", "1,7"],
+                                               "has no boundary edge with label 7 of -contact_label 1,7 (Gamma_C); its "
+                                               "labels are 1 2"),
+    "a contact label list that is not one": ("test1", ["-contact_label", "1;2"],
+                                             "-contact_label must be an integer in [1, 1000000000], or a list of them "
+                                             "such as 1,2; got '1;2'"),
     # names what moves it, and only the plane options
     "moving clamp": ("cantilever", ["-u0y", "1", "-spin", "0.1"], "the initial state moves the clamped boundary Gamma_D "
                      "(label 3): -u0y is 1, -spin is 0.1; with Gamma_D, -u0x, -u0y, -v0x, -v0y and -spin must be 0"),
@@ -275,3 +284,18 @@ def test_csm1_static_matches_the_published_values():
     _, ux, uy, iterations = line[0].split()
     assert abs(float(ux) + 7.187) <= 0.005 * 7.187 and abs(float(uy) + 66.10) <= 0.005 * 66.10, line[0]
     assert int(iterations) <= 10
+
+
+def test_contact_on_several_labels_adds_their_nodes_to_10(tmp_path):
+    """-contact_label 1,2 imposes (10) on the disk's whole boundary (49 + 65 vertices, the two its halves share
+    once: 112). Its top half never reaches the foundation in Test 1, and the active-set solver's QP has one solution, so
+    the history is the one of -contact_label 1 to the bit; parameters.txt records the list as given."""
+    runs = {}
+    for labels in ("1", "2,1"):
+        out = tmp_path / labels.replace(",", "_")
+        p = run_scene("test1", out, ["-T", "30", "-solver", "activeset", "-contact_label", labels, "-progress", "0",
+                                     "-snapshots", "none"])
+        runs[labels] = (out, p.stdout.splitlines()[0])
+    assert "49 contact vertices" in runs["1"][1] and "112 contact vertices" in runs["2,1"][1], runs
+    assert (runs["1"][0] / "history.csv").read_bytes() == (runs["2,1"][0] / "history.csv").read_bytes()
+    assert read_parameters(str(runs["2,1"][0]))["-contact_label"] == "2,1"
