@@ -147,3 +147,59 @@ def test_a_coefficient_without_friction_warns(tmp_path):
     """-friction_coefficient with -friction none has no effect: the documented warning line, and the run goes on."""
     p = run_scene("test1", tmp_path / "run", ["-T", "1", "-friction_coefficient", "0.3"] + QUIET)
     assert "warning: -friction_coefficient has no effect: it applies to -friction coulomb" in p.stderr.splitlines()
+
+
+# -initial static (body/initial_static.idp): at rest in static contact under the load's part normal to the flat
+STATIC = ["-initial", "static", "-solver", "activeset"] + QUIET
+
+
+@pytest.mark.parametrize("scene,up,args", [("test1", "2", ["-u0y", "0", "-T", "10"]), ("ball", "3", ["-T", "3"])],
+                         ids=["disk", "ball"])
+def test_a_body_started_static_on_the_flat_stays_at_rest(tmp_path, scene, up, args):
+    """-initial static solves K w = F - C' lm under (10) (frictionless, f normal to the flat foundation). The
+    mid-point step (4) of a body at rest in that state is K u = F - C' lm again, so it stays: its velocity stays at
+    round-off (1e-12), and the contact force is the body's weight from the first step (the disk's 1255.906 x 0.1),
+    where a body set down unstressed would oscillate between about 0 and twice its weight."""
+    out = tmp_path / scene
+    p = run_scene(scene, out, STATIC + args)
+    assert any(line.startswith("initial state: at rest in static contact (") for line in p.stdout.splitlines()), p.stdout
+    h = read_run(str(out))
+    v = np.column_stack([h[k] for k in h if k.startswith("v") and k.endswith(("_mean", "_low"))])
+    assert np.abs(v).max() < 1e-12
+    force = h[f"contact_force_{'yz'[int(up) - 2]}"][1:]
+    assert np.ptp(force) < 1e-10 * force.mean()
+    if scene == "test1":
+        assert abs(force.mean() / 125.5906 - 1) < 1e-5
+
+
+def test_the_stiff_disk_slides_down_the_incline_at_g_sin_minus_F_cos(tmp_path):
+    """Coulomb's closed form for a body that slides (tan theta > 3 F): its centre accelerates down the slope at
+    g (sin theta - F cos theta). The nearly rigid disk (lambda = mu = 3000) started static on the 10 degree incline
+    with F = 0.02 slides in gross slip; its speed along the slope at t = 10 is the closed form's within 1% (0.23%)."""
+    out = tmp_path / "incline"
+    run_scene("incline", out, STATIC + ["-lambda", "3000", "-mu", "3000", "-friction", "coulomb",
+                                        "-friction_coefficient", "0.02", "-T", "10"])
+    h = read_run(str(out))
+    theta, g = math.radians(10), 0.1
+    speed = -(h["v1_mean"][-1] * math.cos(theta) + h["v2_mean"][-1] * math.sin(theta))
+    assert abs(speed / (g * (math.sin(theta) - 0.02 * math.cos(theta)) * 10) - 1) < 0.01, speed
+    assert h["stick_nodes"][-1] == 0 and h["slip_nodes"][-1] > 0
+
+
+STATIC_REFUSALS = [
+    (["-initial", "static", "-foundation", "cosine"], "error: -initial static needs -foundation flat (a plane of any -angle): on the cosine "
+     "foundation its static state is not defined here; use -initial given"),
+    (["-initial", "static", "-foundation_velocity", "-0.1"], "error: -initial static needs a fixed foundation: -foundation_velocity is -0.1; use "
+     "-initial given"),
+    (["-initial", "static", "-material", "svk"], "error: -initial static with -material svk is not supported yet: it is implemented for "
+     "-material linear"),
+    (["-initial", "rest"], "error: -initial must be given or static; got 'rest'"),
+]
+
+
+@pytest.mark.parametrize("args,line", STATIC_REFUSALS, ids=[" ".join(a[2:] or a) for a, _ in STATIC_REFUSALS])
+def test_initial_static_refusals_leave_the_earlier_run_alone(tmp_path, earlier_run, args, line):
+    """-initial static where it is not defined or not implemented: one line, exit 3, the earlier run unchanged."""
+    p, changed = refused_into_copy(tmp_path, earlier_run, "test1", args + ["-T", "1"])
+    assert p.returncode == 3 and error_lines(p) == [line], p.stderr
+    assert not changed

@@ -25,7 +25,7 @@ tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
   }
   next }
 /^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
-/^(note: |mesh |reference point: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
+/^(note: |mesh |reference point: |initial state: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
 /^progress / { sub(/^progress /, "")
                if (tty) { printf "\r%s   ", $0; pending = 1 }
                else { el = $0; sub(/.*elapsed /, "", el); sub(/ .*/, "", el)
