@@ -162,9 +162,14 @@ def test_a_friction_run_restarts_to_the_bit(tmp_path):
 
 
 def test_a_coefficient_without_friction_warns(tmp_path):
-    """-friction_coefficient with -friction none has no effect: the documented warning line, and the run goes on."""
+    """-friction_coefficient with -friction none, or -belt_speed without friction, has no effect: the documented
+    warning line, and the run goes on."""
     p = run_scene("test1", tmp_path / "run", ["-T", "1", "-friction_coefficient", "0.3"] + QUIET)
     assert "warning: -friction_coefficient has no effect: it applies to -friction coulomb" in p.stderr.splitlines()
+    # a belt without friction (Coulomb with F = 0 is frictionless) moves nothing
+    p = run_scene("test1", tmp_path / "belt", ["-T", "1", "-belt_speed", "1", "-friction", "coulomb"] + QUIET)
+    assert ("warning: -belt_speed has no effect: the foundation's motion along itself acts on the body through "
+            "friction only") in p.stderr.splitlines()
 
 
 # -initial static (body/initial_static.idp): at rest in static contact under the load's part normal to the flat
@@ -221,3 +226,45 @@ def test_initial_static_refusals_leave_the_earlier_run_alone(tmp_path, earlier_r
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", args + ["-T", "1"])
     assert p.returncode == 3 and error_lines(p) == [line], p.stderr
     assert not changed
+
+
+@pytest.fixture(scope="module")
+def friction_scenes(tmp_path_factory):
+    runs = {"slide": ("slide", QUIET), "slide_left": ("slide", ["-v0x", "-0.5"] + QUIET), "belt": ("belt", QUIET),
+            "roll": ("roll", QUIET)}
+    return {name: read_run(d) for name, d in run_scenes(tmp_path_factory.mktemp("scenes"), runs).items()}
+
+
+def test_the_belt_is_the_slide_seen_from_the_belt(friction_scenes):
+    """(1)-(2) with (10) on a flat foundation are Galilean invariant (a translation at constant velocity costs no
+    strain, and the rows of (10) do not depend on X1 when psi' = 0): the disk set down on the belt moving at V = 0.5
+    is the disk launched at -0.5 on the fixed flat, plus V t. Its v1_mean, u1_mean, spin, friction work and
+    slip count agree to round-off, so the slip is taken relative to the belt, and m_j = V dt."""
+    belt, slide = friction_scenes["belt"], friction_scenes["slide_left"]
+    assert np.abs(belt["v1_mean"] - (slide["v1_mean"] + 0.5)).max() < 1e-12
+    assert np.abs(belt["u1_mean"] - (slide["u1_mean"] + 0.5 * belt["t"])).max() < 1e-11
+    assert np.abs(belt["angular_velocity"] - slide["angular_velocity"]).max() < 1e-13
+    assert np.abs(belt["friction_work"] - slide["friction_work"]).max() < 1e-10 * slide["friction_work"][-1]
+    assert (belt["slip_nodes"] == slide["slip_nodes"]).all() and (belt["stick_nodes"] == slide["stick_nodes"]).all()
+
+
+def test_the_belt_does_work_and_the_balance_holds(friction_scenes):
+    """With the foundation moving along itself by m_j over a step, testing (4) with u^n gives
+    E^{n+1} - (f, u^{n+1}) + D^{n+1} <= E^n - (f, u^n) + W^{n+1}, W^{n+1} = -lm_T . m the work of the belt on the body
+    (history.csv's foundation_work, cumulative): that balance holds at every step to 1e-12, and the belt's work over
+    the run is positive (it speeds the disk up and spins it; on a step where the disk overtakes the belt, it brakes)."""
+    h = friction_scenes["belt"]
+    total = h["modified_energy"] + h["friction_work"] - h["foundation_work"]
+    assert np.diff(total).max() <= 1e-12 * np.abs(total).max()
+    assert h["foundation_work"][-1] > 100
+    assert (friction_scenes["slide"]["foundation_work"] == 0).all()
+
+
+def test_the_roll_scene_rolls(friction_scenes):
+    """roll (the 10 degree incline, F = 0.5 > tan 10 / 3): the disk started static rolls down (omega > 0, towards
+    -X1, counter-clockwise) with its contact patch sticking, and friction does almost no work (0.1% of the energy
+    the disk gains)."""
+    h = friction_scenes["roll"]
+    assert h["v1_mean"][-1] < -0.1 and h["angular_velocity"][-1] > 0.005
+    assert h["stick_nodes"][-1] > 5 and h["slip_nodes"][-1] == 0
+    assert h["friction_work"][-1] < 1e-3 * (h["energy"][-1] - h["energy"][0])

@@ -10,7 +10,7 @@
 #                ENERGY_GUARD_ON M0 SCALE0 WORK0 WORK_MAX GAIN_MAX GAIN_M GAIN_T   (watch/guards.idp)
 # then u (NDOF values), v (NDOF values), the active set (NCONTACT values 0 or 1) and
 # the contact multipliers (NCONTACT values); with friction (F = 1: contact/friction.idp) the stick set (0 or 1),
-# the slip's signs (-1, 0 or 1), the tangential multipliers (NCONTACT values each) and the friction work (1 value);
+# the slip's signs (-1, 0 or 1), the tangential multipliers (NCONTACT values each), and the friction work and the foundation's (2 values);
 # each as FreeFEM writes an array (its size, then the values), then "end STEP".
 # Prints one line "error: -restart DIR: ..." and exits 3 on the first defect.
 BEGIN { name = ENVIRON["CONTACT_RESTART"] }     # (DIR from the environment: -v would read a '\' in it as an escape)
@@ -39,7 +39,7 @@ NR == 1 {
     if (part == parts + 1) { if (tok != step) fail("checkpoint.txt ends with 'end " tok "', its header says step " step); part++; continue }
     if (part == parts + 2) fail("checkpoint.txt goes on after its end marker")
     if (expect < 0) {
-      want = (part < 2) ? ndof : ((part < 7) ? ncontact : 1)
+      want = (part < 2) ? ndof : ((part < 7) ? ncontact : 2)
       if (tok != want) fail("checkpoint.txt is corrupt: array " part + 1 " has size '" tok "', expected " want)
       expect = want
       if (want == 0) { part++; expect = -1 }   # (a mesh without Gamma_C: no active set, no multipliers)
