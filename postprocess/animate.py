@@ -8,7 +8,9 @@ stress per triangle, its boundary, the foundation polyline of that time (foundat
 ground below it, and the time. A 3D body is seen along X2: its section by the plane X2 = 0 in (X1 + u1,
 X3 + u3), coloured per tetrahedron, and the foundation's section by that plane. The colour scale (0 to
 the largest von Mises of all frames, or --vmax) and the axes (the body over all frames and the
-foundation under it) are the same in every frame.
+foundation under it) are the same in every frame. A plane run with friction also marks Gamma_C's pressed
+nodes, sticking (blue) or slipping (red), with an arrow for the tangential traction on the body along the
+foundation (one scale for every frame).
 
 Writes DIR/animation.gif (Pillow), and with --mp4 also the .mp4 beside it when ffmpeg is on PATH (without
 it, a `note:` line says it is skipped). Each file is written under a temporary name in its directory and
@@ -92,7 +94,12 @@ def body_2d(m, body):
     except KeyError as err:
         raise Refused(BAD_INPUT, f"{body} has no {err} (not a body .vtu of this suite?)")
     lines = m.cells_dict.get("line")
-    return {"xy": xy, "polys": xy[tri], "vonmises": vm, "segments": xy[lines] if lines is not None else []}
+    frame = {"xy": xy, "polys": xy[tri], "vonmises": vm, "segments": xy[lines] if lines is not None else []}
+    if "contact_state" in m.point_data:      # a run with friction: Gamma_C's nodes, their state and traction
+        state = m.point_data["contact_state"].ravel()
+        on = state > 0
+        frame["friction"] = {"xy": xy[on], "state": state[on], "traction": m.point_data["tangential_traction"].ravel()[on]}
+    return frame
 
 
 # the edges of a tetrahedron (a triangle) whose vertices, sorted negative side first, are split k | rest
@@ -218,8 +225,12 @@ def draw(frames, vmax=None):
     fig.colorbar(body, ax=ax, orientation="horizontal", fraction=0.04, shrink=0.9, aspect=36,
                  extend="max" if vmax is not None else "neither").set_label(label, fontsize=9)
 
+    marks, arrows = friction_layer(ax, frames, x1 - x0)
+
     def frame(k):
         f = frames[k]
+        if marks is not None:
+            draw_friction(f, marks, arrows)
         body.set_verts(f["polys"])
         body.set_array(f["vonmises"])
         outline.set_segments(f["segments"])
@@ -232,6 +243,42 @@ def draw(frames, vmax=None):
     fig.canvas.draw()
     fig.set_layout_engine("none")   # the layout of the last frame, kept for every frame
     return fig, frame
+
+
+def friction_layer(ax, frames, width):
+    """The markers and arrows of Gamma_C's friction (None, None for a run without it): the arrows' scale makes
+    the largest traction of every frame a tenth of the axes' width."""
+    if not any("friction" in f for f in frames):
+        return None, None
+    top = max([np.abs(f["friction"]["traction"]).max() for f in frames if len(f.get("friction", {}).get("traction", []))]
+              or [1.0])
+    marks = ax.scatter([], [], s=9, zorder=4)
+    arrows = {"ax": ax, "scale": (top or 1.0) / (0.1 * width), "width": width, "quiver": None}     # (redrawn each frame: its count varies)
+    ax.text(0.99, 0.01, "\u25cf slip", transform=ax.transAxes, ha="right", va="bottom", fontsize=8, color="tab:red")
+    ax.text(0.83, 0.01, "\u25cf stick", transform=ax.transAxes, ha="right", va="bottom", fontsize=8, color="tab:blue")
+    return marks, arrows
+
+
+def draw_friction(f, marks, arrows):
+    """Frame f's pressed nodes of Gamma_C, blue where they stick, red where they slip, and the traction's arrows
+    along the foundation's tangent there (from its polyline)."""
+    fr = f.get("friction", {"xy": np.zeros((0, 2)), "state": np.zeros(0), "traction": np.zeros(0)})
+    xy = fr["xy"] if len(fr["xy"]) else np.zeros((0, 2))
+    marks.set_offsets(xy)
+    marks.set_color(["tab:blue" if s == 1 else "tab:red" for s in fr["state"]])
+    tx, ty = np.ones(len(xy)), np.zeros(len(xy))
+    if f["foundation"] is not None and len(xy):
+        fx, fy = f["foundation"][:, 0], f["foundation"][:, 1]
+        slope = np.interp(xy[:, 0], 0.5 * (fx[1:] + fx[:-1]), np.diff(fy) / np.where(np.diff(fx) == 0, 1, np.diff(fx)))
+        tx, ty = 1 / np.sqrt(1 + slope**2), slope / np.sqrt(1 + slope**2)
+    if arrows["quiver"] is not None:
+        arrows["quiver"].remove()
+        arrows["quiver"] = None
+    if len(xy):     # (drawn in the ground just below the foundation, where the line and the markers do not hide them)
+        below = 0.04 * arrows["width"]
+        arrows["quiver"] = arrows["ax"].quiver(xy[:, 0] + below * ty, xy[:, 1] - below * tx, fr["traction"] * tx,
+                                               fr["traction"] * ty, color="k",
+                                               angles="xy", scale_units="xy", scale=arrows["scale"], width=0.004, zorder=5)
 
 
 class GifWriter(animation.PillowWriter):

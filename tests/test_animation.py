@@ -4,7 +4,10 @@ import os
 import shutil
 import subprocess
 
+import matplotlib.collections
+import matplotlib.colors
 import matplotlib.lines
+import matplotlib.quiver
 import meshio
 import numpy as np
 import pytest
@@ -322,3 +325,24 @@ def test_out_is_a_directory(tiny_run, tmp_path):
     p = animate(run, "--out", str(run / "a.gif"))
     assert refused(p, 7) and "is a directory" in p.stderr and "frame" not in p.stdout, p.stderr
     assert files_of(run / "a.gif") == before and not [f for f in os.listdir(run) if ".part" in f]
+
+
+def test_a_friction_run_marks_stick_and_slip(tmp_path, tiny_run):
+    """A plane run with friction (the slide scene): each frame marks Gamma_C's pressed nodes, red where they slip
+    and blue where they stick, and draws the tangential traction's arrows (issue 35, item 5); skidding at t = 2 every
+    marker is red and the arrows point to -X1, against the motion. A frictionless run's frames have neither."""
+    out = tmp_path / "slide"
+    run_scene("slide", out, ["-T", "10", "-snapshots", "2,10", "-progress", "0"])
+    frames = load_frames(str(out))
+    fig, frame = draw(frames)
+    frame(0)
+    ax = fig.axes[0]
+    marks = [c for c in ax.collections if isinstance(c, matplotlib.collections.PathCollection)][0]
+    assert len(frames[0]["friction"]["xy"]) > 5 and set(map(tuple, marks.get_facecolors()[:, :3].round(3))) == \
+        {tuple(np.round(matplotlib.colors.to_rgb("tab:red"), 3))}
+    quiver = [c for c in ax.collections if isinstance(c, matplotlib.quiver.Quiver)]
+    assert len(quiver) == 1 and (quiver[0].U < 0).all()
+    frame(1)
+    assert 1 in frames[1]["friction"]["state"] and len([c for c in ax.collections if isinstance(c, matplotlib.quiver.Quiver)]) == 1
+    assert animate(out).returncode == 0
+    assert all("friction" not in f for f in load_frames(tiny_run))

@@ -268,3 +268,23 @@ def test_the_roll_scene_rolls(friction_scenes):
     assert h["v1_mean"][-1] < -0.1 and h["angular_velocity"][-1] > 0.005
     assert h["stick_nodes"][-1] > 5 and h["slip_nodes"][-1] == 0
     assert h["friction_work"][-1] < 1e-3 * (h["energy"][-1] - h["energy"][0])
+
+
+def test_the_snapshots_show_the_traction_and_the_stick_slip_state(tmp_path):
+    """The .vtu of a friction run carries, on Gamma_C, the tangential traction on the body (-lm_T / w_j, along t)
+    and the state (0 free, 1 sticking, 2 slipping). Skidding at t = 2 every pressed node slips, its traction
+    -F times its pressure (alpha of eq. (6)) against the motion; rolling at t = 10 the nodes that stick carry at most
+    F times it. A frictionless .vtu has neither field."""
+    meshio = pytest.importorskip("meshio")
+    out = tmp_path / "slide"
+    run_scene("slide", out, ["-snapshots", "2,10", "-progress", "0"])
+    skid, roll = (meshio.read(str(out / f"vonmises_t{t}.vtu")).point_data for t in (2, 10))
+    pressed = skid["contact_pressure"] > 0
+    assert pressed.sum() > 5 and (skid["contact_state"][pressed] == 2).all()
+    assert np.abs(skid["tangential_traction"][pressed] / skid["contact_pressure"][pressed] + F).max() < 1e-12
+    assert (skid["tangential_traction"][~pressed] == 0).all()
+    sticking = roll["contact_state"] == 1
+    assert sticking.sum() > 5
+    assert (np.abs(roll["tangential_traction"][sticking]) <= F * roll["contact_pressure"][sticking] * (1 + 1e-12)).all()
+    run_scene("test1", tmp_path / "plain", ["-T", "1", "-snapshots", "1", "-progress", "0"])
+    assert "contact_state" not in meshio.read(str(tmp_path / "plain" / "vonmises_t1.vtu")).point_data
