@@ -104,9 +104,9 @@ REFUSALS = [
     (["-friction", "tresca"],
      "error: -friction tresca needs -friction_bound g > 0, the largest tangential stress on a pressed node (a bound "
      "of 0 is no friction: -friction none)"),
-    (["-friction", "coulomb", "-friction_coefficient", "0.2", "-solver", "ipopt"],
-     "error: -friction coulomb with -solver ipopt is not supported yet: use -solver activeset (the default with "
-     "friction), which solves the step's stick and slip sets exactly"),
+    (["-friction", "coulomb", "-friction_coefficient", "0.2", "-solver", "newton"],
+     "error: -friction coulomb with -solver newton does not apply: use -solver activeset (the default with friction), "
+     "which solves the step's stick and slip sets exactly, or ipopt"),
     (["-friction", "coulomb", "-friction_coefficient", "0.2", "-contact", "penalty"],
      "error: -friction coulomb with -contact penalty is not supported yet: it is implemented with -contact "
      "constraint, (10) imposed exactly"),
@@ -288,3 +288,23 @@ def test_the_snapshots_show_the_traction_and_the_stick_slip_state(tmp_path):
     assert (np.abs(roll["tangential_traction"][sticking]) <= F * roll["contact_pressure"][sticking] * (1 + 1e-12)).all()
     run_scene("test1", tmp_path / "plain", ["-T", "1", "-snapshots", "1", "-progress", "0"])
     assert "contact_state" not in meshio.read(str(tmp_path / "plain" / "vonmises_t1.vtu")).point_data
+
+
+@pytest.mark.parametrize("scene", ["slide", "roll"])
+def test_ipopt_agrees_with_the_active_set(tmp_path, scene):
+    """-solver ipopt, the paper's solver, with friction: the step with the slip bounds fixed is a smooth convex
+    program (|s| replaced by a slack z >= |s|), and the bounds are a fixed point (contact/friction_ipopt.idp, about 5
+    IPOPT solves a step here). It agrees with the exact active set to IPOPT's tolerance (-tol 1e-8): the skidding
+    slide (every pressed node slipping) and the rolling disk (its patch sticking), over 30 steps."""
+    runs = {}
+    for solver in ("ipopt", "activeset"):
+        out = tmp_path / solver
+        run_scene(scene, out, ["-solver", solver, "-T", "1.5"] + QUIET)
+        runs[solver] = read_run(str(out))
+    a, b = runs["ipopt"], runs["activeset"]
+    for column, size in (("v1_mean", 0.5), ("angular_velocity", 0.01), ("u1_mean", 1), ("u2_mean", 1)):
+        assert np.abs(a[column] - b[column]).max() < 1e-7 * size, column
+    for column in ("contact_force_x", "contact_force_y", "friction_work"):
+        assert np.abs(a[column] - b[column]).max() < 1e-6 * max(np.abs(b[column]).max(), 1.0), column   # (D = 0 rolling)
+    assert (a["slip_nodes"] == b["slip_nodes"]).all() and (a["stick_nodes"] == b["stick_nodes"]).all()
+    assert 1 <= a["newton_iterations"][1:].min() and a["newton_iterations"].max() <= 20
