@@ -365,3 +365,17 @@ def test_3d_friction_with_ipopt_is_refused(tmp_path, earlier_run):
         "error: -friction coulomb with -solver ipopt is not supported on a 3D body yet (its slip is a second-order "
         "cone): use -solver activeset, the default with friction"], p.stderr
     assert not changed
+
+
+def test_a_3d_friction_run_restarts_to_the_bit(tmp_path):
+    """In 3D the next step starts from the slip's directions too (its semi-smooth Newton rows are linearised about
+    them), so the checkpoint keeps them: the skidding ball restarted at t = 1 gives the uninterrupted run's
+    history.csv and checkpoint.txt byte for byte."""
+    args = ["-initial", "static", "-v0x", "0.5", "-friction", "coulomb", "-friction_coefficient", "0.3",
+            "-checkpoint_every", "20"] + QUIET
+    first, straight = tmp_path / "first", tmp_path / "straight"
+    run_scene("ball", first, args + ["-T", "1"])
+    run_scene("ball", first, ["-restart", str(first), "-T", "2"] + QUIET[:2])
+    run_scene("ball", straight, args + ["-T", "2"])
+    for name in ("history.csv", "checkpoint.txt"):
+        assert (first / name).read_bytes() == (straight / name).read_bytes(), name
