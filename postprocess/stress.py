@@ -37,6 +37,9 @@ case passes when it completes its horizon, or when it stops cleanly as an svk ca
 (exit 4, one "newton failed" line, the history intact and passing these criteria): the
 outcome column says which.
 The cases of METHOD_CASES run the methods of docs/methods.md, with their own bounds (below).
+The cases of FRICTION_CASES run Coulomb's friction (docs/friction.md); their energy bound is Prop. 2 with
+friction: E - (f, u) + D - W does not increase (D the friction's work, W the foundation's along itself), up to
+the solver tolerance.
 Writes results/stress/summary.md (one row per case; --nh-only: the Neo-Hookean cases
 alone, into summary_neohookean.md). The cases, these criteria and `FAST`, the subset that
 `make check` runs on shorter horizons, are in stress_cases.py.
@@ -47,7 +50,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
 from driver import ROOT, run_case as run_driver  # noqa: E402
-from stress_cases import BALL_CASES, CASES, FAST, METHOD_CASES, case_args, evaluate, is_neohookean, outcome  # noqa: E402
+from stress_cases import BALL_CASES, CASES, FAST, FRICTION_CASES, METHOD_CASES, case_args, evaluate, is_neohookean, \
+    outcome  # noqa: E402
 
 
 def run(name, out, horizon=None):
@@ -64,6 +68,8 @@ def main():
                    help="only the cases of the methods (METHOD_CASES), into summary_methods.md (summary.md is left as it is)")
     p.add_argument("--nh-only", action="store_true",
                    help="only the Neo-Hookean cases, into summary_neohookean.md (summary.md is left as it is)")
+    p.add_argument("--friction-only", action="store_true",
+                   help="only the friction cases (FRICTION_CASES), into summary_friction.md (summary.md is left as it is)")
     p.add_argument("--ball-only", action="store_true",
                    help="only the 3D ball's cases (BALL_CASES), into summary_ball.md (summary.md is left as it is)")
     jobs.add_processes_option(p)
@@ -71,10 +77,11 @@ def main():
     jobs.use_processes(a.np)
     os.makedirs(a.out, exist_ok=True)
     summary = "summary_neohookean.md" if a.nh_only else "summary_methods.md" if a.methods_only else \
-        "summary_ball.md" if a.ball_only else "summary.md"
+        "summary_ball.md" if a.ball_only else "summary_friction.md" if a.friction_only else "summary.md"
     jobs.stop_on_interrupt("make stress", a.out, [summary])
     names = list(FAST) if a.fast else [n for n in CASES if is_neohookean(n)] if a.nh_only else \
-        list(METHOD_CASES) if a.methods_only else list(BALL_CASES) if a.ball_only else list(CASES)
+        list(METHOD_CASES) if a.methods_only else list(BALL_CASES) if a.ball_only else \
+        list(FRICTION_CASES) if a.friction_only else list(CASES)
     lines = ["| case | stresses | outcome | steps | energy bound | max one-step gain (relative) | max penetration | "
              "max active nodes | contact intervals | failures | seconds |",
              "| --- | --- | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: |"]

@@ -80,6 +80,19 @@ BALL_CASES = {
                                             "3D, foundation drops faster than the ball"),
 }
 CASES.update(BALL_CASES)
+# friction (docs/friction.md): the incline at the threshold tan(theta) = 3 F between rolling and sliding, a fast belt,
+# a large F on Test 2's moving foundation, the 3D ball spinning onto the flat; bound "friction": E - (f, u) + D - W
+# non-increasing (Prop. 2 with friction, W the foundation's work along itself)
+FRICTION_CASES = {
+    "friction incline at the threshold tan = 3F": ("roll", ["-angle", "30.96375653207352", "-friction_coefficient", "0.2",
+                                                            "-T", "40"], "friction", "rolling and sliding at once"),
+    "friction fast belt 5": ("belt", ["-belt_speed", "5", "-T", "40"], "friction", "a belt 10 times the slide's speed"),
+    "friction F = 5 on Test 2": ("test2", ["-friction", "coulomb", "-friction_coefficient", "5", "-T", "60"], "friction",
+                                 "large F, moving foundation"),
+    "friction ball spinning onto the flat": ("ball", ["-spin", "0.05", "-friction", "coulomb", "-friction_coefficient", "0.3",
+                                                      "-T", "60"], "friction", "3D, torsion at the contact"),
+}
+CASES.update(FRICTION_CASES)
 # the subset in make check, with its shorter horizon
 FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast drop t1 = t0 + 0.5": "20",
         "f = 0, fixed foundation": "15", "f = 0, decreasing foundation": "15",
@@ -88,7 +101,8 @@ FAST = {"dt 1": None, "dt 2": None, "v0y -5": "20", "lambda 3000": "20", "fast d
         "svk v0y -5": "20", "svk f = 0, fixed foundation": "15", "svk f = 0, decreasing foundation": "15",
         "penalty eps 1e-7": "20",
         # Neo-Hookean: v0y -5 (where SVK breaks at t = 0.95) must complete
-        "neohookean v0y -5": "20"}
+        "neohookean v0y -5": "20",
+        "friction fast belt 5": "10", "friction F = 5 on Test 2": "25"}
 
 
 def is_svk(name):
@@ -163,6 +177,8 @@ def evaluate(name, out, returncode, stderr):
     if not np.isfinite(np.column_stack(list(h.values()))).all():
         failures.append("non-finite values")
     energy = h["energy"] if bound == "prop2" else h["modified_energy"]
+    if bound == "friction":
+        energy = h["modified_energy"] + h["friction_work"] - h["foundation_work"]
     gain = float(np.diff(energy).max()) if len(energy) > 1 else 0.0
     scale = max(1.0, float(np.abs(energy).max()))
     penetration = float(h["max_penetration"].max())
@@ -175,8 +191,9 @@ def evaluate(name, out, returncode, stderr):
         failures.append(f"penetration {penetration:.3g} > {allowed:g}")
     if bound in ("bounded", "guarded") and stopped is None and energy_gain(h).max() > GUARD_STOP:
         failures.append(f"the modified energy grows by {growth:.3g}, {100 * energy_gain(h).max():.1f}% of the run's energy")
-    elif bound in ("prop2", "modified", "roundoff") and gain > (NH_ROUNDOFF if bound == "roundoff" else TOL) * scale:
-        failures.append(f"{'energy' if bound == 'prop2' else 'modified energy'} rises by {gain:.3g} in a step "
+    elif bound in ("prop2", "modified", "roundoff", "friction") and gain > (NH_ROUNDOFF if bound == "roundoff" else TOL) * scale:
+        failures.append(f"{'energy' if bound == 'prop2' else 'E - (f, u) + D - W' if bound == 'friction' else 'modified energy'} "
+                        f"rises by {gain:.3g} in a step "
                         f"(> {NH_ROUNDOFF if bound == 'roundoff' else TOL:g} x {scale:.4g})")
     min_j = float(h["min_J"].min()) if "min_J" in h else None
     if bound == "roundoff" and not (min_j is not None and min_j > 0):
@@ -186,6 +203,7 @@ def evaluate(name, out, returncode, stderr):
     metrics = {"steps": len(h["t"]) - 1, "energy": {"prop2": "energy non-increasing", "modified": "modified non-increasing",
                                                     "roundoff": f"modified non-increasing (round-off, {NH_ROUNDOFF:g})",
                                                     "bounded": "modified bounded (gain <= 10% of S)",
+                                                    "friction": "E - (f, u) + D - W non-increasing",
                                                     "guarded": "modified bounded, or a warning line, or the guard's stop"}[bound] + (
                                                         " (warned)" if warned else ""),
                "growth": growth,
