@@ -117,16 +117,19 @@ def main():
     p.add_argument("--step-cost-only", action="store_true",
                    help="only the cost of a step against its floor (the limit probe, the active set, no foundation), "
                         "into bench_step_cost.md and .csv")
+    p.add_argument("--friction-only", action="store_true",
+                   help="only friction's cost against the frictionless run (issue 35), into bench_friction.md and .csv")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     stem = ("bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else
-            "bench_step_cost" if a.step_cost_only else "bench")
+            "bench_step_cost" if a.step_cost_only else "bench_friction" if a.friction_only else "bench")
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
-    if a.ball_only or a.parallel_only or a.step_cost_only:
+    if a.ball_only or a.parallel_only or a.step_cost_only or a.friction_only:
         rows, text = (ball_section(a.out, a.repeat) if a.ball_only else step_cost_section(a.out, a.repeat) if a.step_cost_only
+                      else friction_section(a.out, a.repeat) if a.friction_only
                       else parallel_section(a.out, a.repeat, a.meshes.split(",") if a.meshes else None))
         print(text)
         write_tables(a.out, stem, rows, text)
@@ -510,6 +513,54 @@ def step_cost_section(out_base, repeat):
             pr = probes[mesh] if (ordering, kind, threads) == ("default", "auto", None) else limit_probe(path, dim, ordering, kind, threads)
             lines.append(f"| {mesh} | {ordering} | {kind} | {threads or 'all'} | {pr['factorise_s']:.2f} | {pr['factor_entries']:.3g} | "
                          f"{pr['solve_wall_ms']:.2f} | {pr['halves_wall_ms']:.2f} | {pr['solve_ms']:.2f} |")
+    return rows, "\n".join(lines)
+
+
+# ---- friction (issue 35): a step with friction against the frictionless one, side by side (timed_group alternates the
+# runs), on the disk (the slide scene: started static, launched at v0x = 0.5) and the ball (the same, in 3D); IPOPT on a
+# shorter horizon (its step is a fixed point of about 5 solves)
+FRICTION_GROUPS = [
+    ("disk", "slide", ["-T", "10"], [("frictionless", ["-friction", "none", "-solver", "activeset"]),
+                                     ("coulomb", []), ("tresca", ["-friction", "tresca", "-friction_bound", "0.05"]),
+                                     ("coulomb ipopt", ["-solver", "ipopt", "-T", "2"])]),
+    ("ball", "ball", ["-T", "4", "-initial", "static", "-v0x", "0.5"],
+     [("frictionless", ["-solver", "activeset"]), ("coulomb", ["-friction", "coulomb", "-friction_coefficient", "0.3"])]),
+    ("ball_medium", "ball", ["-T", "2", "-initial", "static", "-v0x", "0.5", "-mesh", "meshes/ball_medium.msh"],
+     [("frictionless", ["-solver", "activeset"]), ("coulomb", ["-friction", "coulomb", "-friction_coefficient", "0.3"])]),
+]
+
+
+def friction_section(out_base, repeat):
+    """Each group's runs, alternated, with one step of each (the set-up: the static start, the factorisation); the
+    loop's ms per step, its ratio to the frictionless run's, and the iterations of a step's sets (or IPOPT's solves)."""
+    rows, lines = [], ["Per step of the time loop (a run's wall time less its one-step run's, per further step), with "
+                       "friction against the frictionless run of the same scene; iterations: a QP step's stick and slip "
+                       "iterations (IPOPT: its solves).", "",
+                       "| body | run | steps | ms/step | ÷ frictionless | iterations per step (mean, max) | Schur solves |",
+                       "| --- | --- | ---: | ---: | ---: | --- | ---: |"]
+    for body, scene, base, variants in FRICTION_GROUPS:
+        group = []
+        for name, args in variants:
+            full = base + args
+            if full.count("-T") > 1:          # (a variant's own horizon replaces the group's)
+                at = full.index("-T")
+                full = full[:at] + full[at + 2:]
+            group.append((f"friction {body} {name}", scene, full))
+            at = full.index("-T")
+            group.append((f"friction {body} {name} set-up", scene, full[:at] + full[at + 2:] + ["-T", "0.05"]))
+        by = {r["case"]: r for r in timed_group(out_base, group, repeat)}
+        rows += list(by.values())
+        plain = None
+        for name, _ in variants:
+            run, one = by[f"friction {body} {name}"], by[f"friction {body} {name} set-up"]
+            ms = ms_after_first_step(run, one)
+            plain = ms if name == "frictionless" else plain
+            out = os.path.join(out_base, f"friction {body} {name}".replace(" ", "_"))
+            h = read_run(out)
+            qp = h["qp_solved"] > 0
+            its = h["newton_iterations"][qp] if name != "frictionless" else np.zeros(1)
+            lines.append(f"| {body} | {name} | {run['steps']} | {ms:.2f} | {ms / plain:.2f} | "
+                         f"{its.mean():.2f}, {its.max():.0f} | {read_summary(out).get('schur_solves', '-')} |")
     return rows, "\n".join(lines)
 
 
