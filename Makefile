@@ -50,7 +50,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods scenes clean
+.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods friction scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -252,6 +252,10 @@ csm3: meshes meshes/csm3_coarse.msh meshes/csm3_fine.msh | deps-plot
 # (issue 25; see postprocess/hertz.py, docs/hertz.md); results/hertz/summary.md
 hertz: meshes/hertz.msh meshes/hertz_coarse.msh | deps-plot
 	$(PYTHON) postprocess/hertz.py --out $(RESULTS)/hertz --jobs $(JOBS) $(if $(NP),--np $(NP))
+
+# ---- friction's closed-form rigid-body benchmarks (postprocess/friction.py, docs/friction.md); results/friction/summary.md
+friction: meshes meshes/hertz_coarse.msh | deps-plot
+	$(PYTHON) postprocess/friction.py --out $(RESULTS)/friction --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment
 scenes:

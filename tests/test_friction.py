@@ -8,6 +8,7 @@ The tests check what follows from them: Prop. 2 with friction, the momentum of (
 and that a coefficient of 0 is the frictionless run to the bit."""
 import math
 import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -379,3 +380,21 @@ def test_a_3d_friction_run_restarts_to_the_bit(tmp_path):
     run_scene("ball", straight, args + ["-T", "2"])
     for name in ("history.csv", "checkpoint.txt"):
         assert (first / name).read_bytes() == (straight / name).read_bytes(), name
+
+
+def test_make_friction_writes_its_table_and_figure(tmp_path):
+    """make friction's study (postprocess/friction.py): every case runs, and summary.md, friction.csv and the figure
+    are written; the two closed forms the linear body meets are met (the gross-slip impulse ratio of the 3D oblique
+    impact within 1% of F, the stiff disk sliding down the incline within 1% of g (sin - F cos)); a bad option is
+    one line, exit 2, nothing written."""
+    out = tmp_path / "friction"
+    p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "postprocess", "friction.py"), "--out", str(out)],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    rows = {tuple(line.split(",")[:2]): float(line.split(",")[4]) for line in (out / "friction.csv").read_text().splitlines()[1:]}
+    assert abs(rows[("oblique ball", "tangential impulse / normal impulse")]) < 0.01
+    assert abs(rows[("incline slides", "speed along the slope at t = 10")]) < 0.01
+    assert len(rows) == 12 and (out / "summary.md").exists() and (out / "friction.png").stat().st_size > 10000
+    bad = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "postprocess", "friction.py"), "--jobs", "0", "--out",
+                          str(tmp_path / "bad")], capture_output=True, text=True)
+    assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and not (tmp_path / "bad").exists()
