@@ -398,3 +398,19 @@ def test_make_friction_writes_its_table_and_figure(tmp_path):
     bad = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "postprocess", "friction.py"), "--jobs", "0", "--out",
                           str(tmp_path / "bad")], capture_output=True, text=True)
     assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and not (tmp_path / "bad").exists()
+
+
+def test_friction_on_p2_elements(tmp_path):
+    """P2 (its contact nodes are Gamma_C's vertices and edge midpoints, the rows of (10) at each): the skidding slide
+    keeps Prop. 2 with friction to 1e-12, and where every pressed node slips the tangential force is F times the normal
+    one to 1e-12, as on P1; its speed after 80 steps is P1's within 1e-3."""
+    out = tmp_path / "p2"
+    run_scene("slide", out, ["-order", "2", "-T", "4"] + QUIET)
+    h = read_run(str(out))
+    total = h["modified_energy"] + h["friction_work"]
+    assert np.diff(total).max() <= 1e-12 * np.abs(total).max()
+    slipping = (h["slip_nodes"] > 0) & (h["stick_nodes"] == 0)
+    assert slipping.sum() > 20 and np.abs(-h["contact_force_x"][slipping] / h["contact_force_y"][slipping] - F).max() < 1e-12
+    p1 = tmp_path / "p1"
+    run_scene("slide", p1, ["-T", "4"] + QUIET)
+    assert abs(h["v1_mean"][-1] - read_run(str(p1))["v1_mean"][-1]) < 1e-3
