@@ -43,9 +43,12 @@ def read_parameters(run_dir):
 
 def energy_gain(h):
     """The energy guard's measure (edp/lib/watch/guards.idp) at every step: the modified energy's gain over
-    its start, (m - m0) / S, S = max(|m0|, E0, max_k |(f, u^k - u^0)|) with (f, u) = E - m."""
+    its start, (m - m0) / S, S = max(|m0|, E0, max_k |(f, u^k - u^0)|) with (f, u) = E - m; on a friction run,
+    m less the work the foundation's motion along itself has done (foundation_work: a belt's), as the guard has it."""
     e, m = h["energy"], h["modified_energy"]
     work = e - m
+    if "foundation_work" in h:
+        m = m - h["foundation_work"]
     scale = np.maximum(max(abs(m[0]), e[0]), np.maximum.accumulate(np.abs(work - work[0])))
     return (m - m[0]) / np.where(scale > 0, scale, 1e-300)
 
