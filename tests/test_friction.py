@@ -414,3 +414,17 @@ def test_friction_on_p2_elements(tmp_path):
     p1 = tmp_path / "p1"
     run_scene("slide", p1, ["-T", "4"] + QUIET)
     assert abs(h["v1_mean"][-1] - read_run(str(p1))["v1_mean"][-1]) < 1e-3
+
+
+def test_initial_static_settles_on_a_very_stiff_incline(tmp_path):
+    """The disk at lambda = mu = 30000 on the 10 degree incline presses a single node at first, about which the
+    proximal iterates turn it by the same small step every iterate (it did not settle in 1000); with eps a tenth as
+    large whenever they drift so, it settles in 21. Released without friction it slides, its normal force the static
+    one, m g cos(theta) (the rows' multipliers sum to m g cos^2(theta)), to 1e-4 at every step (3e-5 here: the
+    tangential load, applied at t = 0, sets off small elastic waves)."""
+    out = tmp_path / "stiff"
+    p = run_scene("incline", out, ["-initial", "static", "-lambda", "30000", "-mu", "30000", "-T", "1"] + QUIET)
+    line = [s for s in p.stdout.splitlines() if s.startswith("initial state:")][0]
+    assert int(line.split("(")[1].split(" ")[0]) < 100, line
+    force = read_run(str(out))["contact_force_y"][1:]
+    assert np.abs(force / (1255.906 * 0.1 * math.cos(math.radians(10))**2) - 1).max() < 1e-4
