@@ -1,22 +1,26 @@
 """`make friction`: friction's closed-form rigid-body benchmarks (docs/friction.md), run by this code.
 
-Each case starts the body at rest on the foundation (-initial static), stiff enough to be nearly rigid
-(lambda = mu = 3000, the linear body: the Neo-Hookean one with friction is not implemented yet), with Coulomb's
-friction and the exact active set, and compares it with the rigid body's closed form (g = 0.1, R = 20, a disk:
-I = m R^2 / 2; a sphere: I = 2/5 m R^2):
-  incline slides     the 10 degree plane, F = 0.02 (tan theta > 3 F): the centre's speed along the slope
-                     g (sin theta - F cos theta) t, the spin 2 F g cos theta t / R;
-  incline rolls      F = 0.5 (tan theta <= 3 F): speed 2/3 g sin theta t, spin that over R;
-  at the threshold   tan theta = 3 F (theta = 30.96 degrees, F = 0.2): both formulas agree, 2/3 g sin theta t;
+Each disk case runs on three bodies, with Coulomb's friction, started at rest on the foundation (-initial static):
+  stiff Neo-Hookean  lambda = mu = 3000, nearly rigid and objective: the body the closed forms are checked on;
+  stiff linear       lambda = mu = 3000, the linear body (it cannot turn without straining: docs/friction.md);
+  soft Neo-Hookean   lambda = mu = 30, the paper's disk (it sags 8.6% of R).
+and compares it with the rigid body's closed form (g = 0.1, R = 20, a disk: I = m R^2 / 2; a sphere: 2/5 m R^2):
+  incline slides     the 30 degree plane, F = 0.1 (tan theta > 3 F): the centre's acceleration along the slope
+                     g (sin theta - F cos theta), the angular acceleration 2 F g cos theta / R;
+  incline rolls      the 10 degree plane, F = 0.5 (tan theta <= 3 F): 2/3 g sin theta, and that over R;
+  at the threshold   tan theta = 3 F (theta = 30.96 degrees, F = 0.2): both formulas agree, 2/3 g sin theta;
   skidding launch    v0 = 0.5 on the flat, F = 0.3: it rolls from t* = v0 / (3 F g) at 2 v0 / 3, friction having
                      taken 1/3 of the kinetic energy;
   belt               set down on a belt at V = 0.5, F = 0.3: it rolls from t* = V / (3 F g) at V / 3;
-  oblique ball       the Hertz ball (hertz_coarse, dt = 0.2) thrown at the flat at v_t / v_n = 4 > 7/2 F (1 + e):
-                     it slides throughout, the tangential impulse F times the normal one, the spin
+  oblique ball       the Hertz ball (hertz_coarse, linear, dt = 0.2) thrown at the flat at v_t / v_n = 4 >
+                     7/2 F (1 + e): it slides throughout, the tangential impulse F times the normal one, the spin
                      5 F (1 + e) v_n / (2 R), e its measured normal restitution.
-Writes OUT/summary.md (a table: each quantity, this code, the closed form, the difference), OUT/friction.csv and
-OUT/friction.png/.pdf (the disk cases' speed and spin against their closed forms); each run in OUT/<case>/.
-A run that fails stops the study with one `error:` line and exit status 1.
+Released at t = 0, a body rocks on its elastic contact (a period of about 3 on the stiff disk), so the incline's
+accelerations are the least-squares slopes of the speed and the spin over the run, not their last values.
+Writes OUT/summary.md (a table: each quantity, the closed form, and each body's value and difference),
+OUT/friction.csv and OUT/friction.png/.pdf (the stiff Neo-Hookean disk's speed and spin against the closed forms,
+the linear body's beside them); each run in OUT/<case>/<body>/. A run that fails stops the study with one `error:`
+line and exit status 1.
 """
 import math
 import os
@@ -30,26 +34,44 @@ from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import read_run  # noqa: E402
 
 G, R, V0 = 0.1, 20.0, 0.5
-STIFF = ["-lambda", "3000", "-mu", "3000", "-initial", "static", "-snapshots", "none", "-progress", "0"]
-THRESHOLD = math.degrees(math.atan(0.6))
-CASES = {
-    "incline slides": ("roll", STIFF + ["-friction_coefficient", "0.02", "-T", "10"]),
-    "incline rolls": ("roll", STIFF + ["-friction_coefficient", "0.5", "-T", "10"]),
-    "at the threshold": ("roll", STIFF + ["-angle", repr(THRESHOLD), "-friction_coefficient", "0.2", "-T", "10"]),
-    "skidding launch": ("slide", STIFF + ["-T", "12"]),
-    "belt": ("belt", STIFF + ["-T", "12"]),
-    "oblique ball": ("oblique_ball", ["-mesh", os.path.join(ROOT, "meshes", "hertz_coarse.msh"), "-dt", "0.2",
-                                      "-snapshots", "none", "-progress", "0"]),
+QUIET = ["-initial", "static", "-snapshots", "none", "-progress", "0"]
+BODIES = {
+    "stiff Neo-Hookean": ["-material", "neohookean", "-lambda", "3000", "-mu", "3000"],
+    "stiff linear": ["-lambda", "3000", "-mu", "3000"],
+    "soft Neo-Hookean": ["-material", "neohookean"],
 }
+THRESHOLD = math.degrees(math.atan(0.6))
+SLOPES = {   # case: (theta in degrees, F, rolls)
+    "incline slides": (30.0, 0.1, False),
+    "incline rolls": (10.0, 0.5, True),
+    "at the threshold": (THRESHOLD, 0.2, True),
+}
+CASES = {
+    **{case: ("roll", QUIET + ["-angle", repr(theta), "-friction_coefficient", str(F), "-T", "10"])
+       for case, (theta, F, _) in SLOPES.items()},
+    "skidding launch": ("slide", QUIET + ["-T", "12"]),
+    "belt": ("belt", QUIET + ["-T", "12"]),
+}
+BALL = ("oblique_ball", ["-mesh", os.path.join(ROOT, "meshes", "hertz_coarse.msh"), "-dt", "0.2", "-snapshots", "none",
+                         "-progress", "0"])
+RUNS = [(case, body) for case in CASES for body in BODIES] + [("oblique ball", "linear")]
 
 
-def slope_case(h, theta_deg, F, rolls):
-    """(speed along the slope, spin) measured at the last step, and the closed form's."""
-    th, t = math.radians(theta_deg), h["t"][-1]
-    speed = -(h["v1_mean"][-1] * math.cos(th) + h["v2_mean"][-1] * math.sin(th))
+def slope_closed_form(case):
+    """The rigid disk's acceleration along the slope and angular acceleration."""
+    theta, F, rolls = SLOPES[case]
+    th = math.radians(theta)
     a = 2 / 3 * G * math.sin(th) if rolls else G * (math.sin(th) - F * math.cos(th))
-    spin = a * t / R if rolls else 2 * F * G * math.cos(th) * t / R
-    return [("speed along the slope at t = 10", speed, a * t), ("spin at t = 10", h["angular_velocity"][-1], spin)]
+    return a, (a / R if rolls else 2 * F * G * math.cos(th) / R)
+
+
+def slope_case(h, case):
+    """(acceleration along the slope, angular acceleration): least-squares slopes over the run, and the closed form's."""
+    th = math.radians(SLOPES[case][0])
+    speed = -(h["v1_mean"] * math.cos(th) + h["v2_mean"] * math.sin(th))
+    a, alpha = slope_closed_form(case)
+    return [("acceleration along the slope", np.polyfit(h["t"], speed, 1)[0], a),
+            ("angular acceleration", np.polyfit(h["t"], h["angular_velocity"], 1)[0], alpha)]
 
 
 def rolling_from(h, v_contact):
@@ -63,12 +85,8 @@ def rolling_from(h, v_contact):
 
 def rows_of(case, h):
     """The case's rows: (quantity, this code, closed form)."""
-    if case == "incline slides":
-        return slope_case(h, 10, 0.02, False)
-    if case == "incline rolls":
-        return slope_case(h, 10, 0.5, True)
-    if case == "at the threshold":
-        return slope_case(h, THRESHOLD, 0.2, True)[:1]
+    if case in SLOPES:
+        return slope_case(h, case)[:1] if case == "at the threshold" else slope_case(h, case)
     if case == "skidding launch":
         t_star, v = rolling_from(h, h["v1_mean"] + R * h["angular_velocity"])
         mass = np.median(np.diff(h["t"])[1:] * h["contact_force_x"][2:] / np.diff(h["v1_mean"])[1:])
@@ -85,13 +103,18 @@ def rows_of(case, h):
             ("spin after the impact", h["angular_velocity_2"][-1], 5 * 0.3 * (1 + e) * 0.0125 / (2 * R))]
 
 
-def run_one(out, case):
-    scene, args = CASES[case]
-    run_dir = os.path.join(out, case.replace(" ", "_"))
-    p = run_driver(scene, run_dir, args, log=os.path.join(out, case.replace(" ", "_") + ".log"), cwd=ROOT)
+def run_dir(out, case, body):
+    return os.path.join(out, case.replace(" ", "_"), body.replace(" ", "_").replace("-", "_"))
+
+
+def run_one(out, item):
+    case, body = item
+    scene, args = BALL if case == "oblique ball" else (CASES[case][0], CASES[case][1] + BODIES[body])
+    where = run_dir(out, case, body)
+    p = run_driver(scene, where, args, log=where + ".log", cwd=ROOT)
     if p.returncode != 0:
-        raise RuntimeError(f"make friction: {case} failed (exit {p.returncode}): {p.last_line}")
-    return case, p.wall
+        raise RuntimeError(f"make friction: {case} on the {body} body failed (exit {p.returncode}): {p.last_line}")
+    return item, p.wall
 
 
 def figure(out, runs):
@@ -99,22 +122,26 @@ def figure(out, runs):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.6), layout="constrained")
-    for case, theta, F, rolls, ax in (("incline slides", 10, 0.02, False, axes[0]), ("incline rolls", 10, 0.5, True, axes[1])):
-        h, th = runs[case], math.radians(theta)
-        a = 2 / 3 * G * math.sin(th) if rolls else G * (math.sin(th) - F * math.cos(th))
-        ax.plot(h["t"], -(h["v1_mean"] * math.cos(th) + h["v2_mean"] * math.sin(th)), label="speed along the slope")
+    for case, ax in (("incline slides", axes[0]), ("incline rolls", axes[1])):
+        theta, F, rolls = SLOPES[case]
+        th = math.radians(theta)
+        a, alpha = slope_closed_form(case)
+        for body, style in (("stiff Neo-Hookean", "-"), ("stiff linear", ":")):
+            h = runs[case, body]
+            ax.plot(h["t"], -(h["v1_mean"] * math.cos(th) + h["v2_mean"] * math.sin(th)), "C0" + style,
+                    label=f"speed along the slope ({body.split()[1]})")
+            ax.plot(h["t"], R * h["angular_velocity"], "C1" + style, label=f"R x spin ({body.split()[1]})")
         ax.plot(h["t"], a * h["t"], "k--", lw=1, label="rigid body")
-        ax.plot(h["t"], R * h["angular_velocity"], label="R x spin")
-        ax.plot(h["t"], (a if rolls else 2 * F * G * math.cos(th)) * h["t"], "k:", lw=1, label="rigid body")
-        ax.set(title=f"{case} (F = {F})", xlabel="t")
-        ax.legend(fontsize=7)
-    h, ax = runs["skidding launch"], axes[2]
+        ax.plot(h["t"], R * alpha * h["t"], "k:", lw=1)
+        ax.set(title=f"{case} ({theta:.0f} degrees, F = {F})", xlabel="t")
+        ax.legend(fontsize=6)
+    h, ax = runs["skidding launch", "stiff Neo-Hookean"], axes[2]
     t_star = V0 / (3 * 0.3 * G)
     ax.plot(h["t"], h["v1_mean"], label="v1")
     ax.plot(h["t"], -R * h["angular_velocity"], label="-R x spin")
     ax.plot(h["t"], np.where(h["t"] < t_star, V0 - 0.3 * G * h["t"], 2 * V0 / 3), "k--", lw=1, label="rigid body")
     ax.plot(h["t"], np.where(h["t"] < t_star, 2 * 0.3 * G * h["t"], 2 * V0 / 3), "k:", lw=1)
-    ax.set(title="skidding launch (F = 0.3)", xlabel="t")
+    ax.set(title="skidding launch (F = 0.3, stiff Neo-Hookean)", xlabel="t")
     ax.legend(fontsize=7)
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(out, f"friction.{ext}"), dpi=110)
@@ -129,17 +156,31 @@ def main():
     os.makedirs(out, exist_ok=True)
     jobs.stop_on_interrupt("make friction", out, ["summary.md", "friction.csv", "*.png", "*.pdf"])
     try:
-        for case, seconds in jobs.run_parallel(lambda c: run_one(out, c), list(CASES), a.jobs):
-            print(f"friction {case}: {seconds:.0f} s", flush=True)
+        for (case, body), seconds in jobs.run_parallel(lambda item: run_one(out, item), RUNS, a.jobs):
+            print(f"friction {case} ({body}): {seconds:.0f} s", flush=True)
     except RuntimeError as e:
         sys.exit(f"error: {e}")
-    runs = {case: read_run(os.path.join(out, case.replace(" ", "_"))) for case in CASES}
-    lines = ["| case | quantity | this code | rigid body | difference |", "| --- | --- | ---: | ---: | ---: |"]
-    csv = ["case,quantity,this_code,rigid_body,difference"]
-    for case, h in runs.items():
-        for what, got, want in rows_of(case, h):
-            lines.append(f"| {case} | {what} | {got:.6g} | {want:.6g} | {100 * (got / want - 1):+.2f}% |")
-            csv.append(f"{case},{what},{got:.9g},{want:.9g},{got / want - 1:.6g}")
+    runs = {item: read_run(run_dir(out, *item)) for item in RUNS}
+    names = list(BODIES)
+    lines = ["| case | quantity | rigid body | " + " | ".join(names) + " |", "| --- | --- | ---: |" + " ---: |" * len(names)]
+    csv = ["case,body,quantity,this_code,rigid_body,difference"]
+    for case in list(CASES) + ["oblique ball"]:
+        bodies = ["linear"] if case == "oblique ball" else names
+        table = {body: rows_of(case, runs[case, body]) for body in bodies}
+        for k, (what, _, want) in enumerate(table[bodies[0]]):
+            cells = []
+            for body in names:
+                if body not in table:
+                    cells.append("")
+                    continue
+                got = table[body][k][1]
+                cells.append(f"{got:.6g} ({100 * (got / want - 1):+.2f}%)")
+                csv.append(f"{case},{body},{what},{got:.9g},{want:.9g},{got / want - 1:.6g}")
+            if case == "oblique ball":
+                got = table["linear"][k][1]
+                csv.append(f"{case},linear,{what},{got:.9g},{want:.9g},{got / want - 1:.6g}")
+                cells = [f"{got:.6g} ({100 * (got / want - 1):+.2f}%), the linear Hertz ball", "", ""]
+            lines.append(f"| {case} | {what} | {want:.6g} | " + " | ".join(cells) + " |")
     text = "\n".join(lines)
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write(text + "\n")

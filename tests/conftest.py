@@ -202,6 +202,18 @@ def run_scenes(base, runs):
     return {name: str(base / name) for name in runs}
 
 
+def restart_reproduces(scene, base, args, split, end):
+    """SCENE ARGS run to T = split and restarted to T = end, against one run to T = end: their history.csv and
+    checkpoint.txt must be byte-identical. Returns the restarted run's directory."""
+    first, straight = base / "first", base / "straight"
+    run_scene(scene, first, args + ["-T", str(split)])
+    run_scene(scene, first, ["-restart", str(first), "-T", str(end), "-progress", "0"])
+    run_scene(scene, straight, args + ["-T", str(end)])
+    for name in ("history.csv", "checkpoint.txt"):
+        assert (first / name).read_bytes() == (straight / name).read_bytes(), name
+    return first
+
+
 def error_lines(p):
     """The "error:" lines a run wrote on stderr."""
     return [line for line in p.stderr.splitlines() if line.startswith("error:")]
