@@ -12,11 +12,14 @@ and compares it with the rigid body's closed form (g = 0.1, R = 20, a disk: I = 
   skidding launch    v0 = 0.5 on the flat, F = 0.3: it rolls from t* = v0 / (3 F g) at 2 v0 / 3, friction having
                      taken 1/3 of the kinetic energy;
   belt               set down on a belt at V = 0.5, F = 0.3: it rolls from t* = V / (3 F g) at V / 3;
+  the sphere         rolling, sliding, the threshold and the skidding launch of the stiff Neo-Hookean Hertz ball
+                     (hertz_coarse, dt = 0.2), against the rigid body of its mesh (below, SPHERES);
   oblique ball       the Hertz ball (hertz_coarse, linear, dt = 0.2) thrown at the flat at v_t / v_n = 4 >
                      7/2 F (1 + e): it slides throughout, the tangential impulse F times the normal one, the spin
                      5 F (1 + e) v_n / (2 R), e its measured normal restitution.
 Released at t = 0, a body rocks on its elastic contact (a period of about 3 on the stiff disk), so the incline's
-accelerations are the least-squares slopes of the speed and the spin over the run, not their last values.
+accelerations are those of the least-squares parabolas through the centre's displacement and the angle turned over
+the run, not the last values of the speed and the spin.
 Writes OUT/summary.md (a table: each quantity, the closed form, and each body's value and difference),
 OUT/friction.csv and OUT/friction.png/.pdf (the stiff Neo-Hookean disk's speed and spin against the closed forms,
 the linear body's beside them); each run in OUT/<case>/<body>/. A run that fails stops the study with one `error:`
@@ -54,7 +57,83 @@ CASES = {
 }
 BALL = ("oblique_ball", ["-mesh", os.path.join(ROOT, "meshes", "hertz_coarse.msh"), "-dt", "0.2", "-snapshots", "none",
                          "-progress", "0"])
-RUNS = [(case, body) for case in CASES for body in BODIES] + [("oblique ball", "linear")]
+HERTZ = os.path.join(ROOT, "meshes", "hertz_coarse.msh")
+
+
+def ball_of_mesh(path):
+    """The rigid body of a tetrahedral mesh (MSH 2.2) resting on its lowest point: its volume, its moment of inertia
+    about a horizontal axis through its centre of mass, and the height h of that centre above the lowest point
+    (exact integrals of the tetrahedra)."""
+    lines = open(path).read().split("\n")
+    i = lines.index("$Nodes")
+    points = np.array([[float(v) for v in line.split()[1:4]] for line in lines[i + 2:i + 2 + int(lines[i + 1])]])
+    i = lines.index("$Elements")
+    tets = np.array([[int(v) - 1 for v in line.split()[-4:]] for line in lines[i + 2:i + 2 + int(lines[i + 1])]
+                     if line.split()[1] == "4"])
+    q = points[tets]
+    a = q[:, 0]
+    vol = np.abs(np.einsum("ij,ij->i", np.cross(q[:, 1] - a, q[:, 2] - a), q[:, 3] - a)) / 6
+    volume = vol.sum()
+    centre = (vol[:, None] * q.mean(1)).sum(0) / volume
+    s = q.sum(1)
+    second = np.einsum("i,ij,ik->jk", vol / 20, s, s) + np.einsum("i,inj,ink->jk", vol / 20, q, q)
+    second -= volume * np.outer(centre, centre)
+    return volume, second[0, 0] + second[2, 2], centre[2] - points[:, 2].min()
+
+
+# The sphere: the stiff Neo-Hookean Hertz ball (hertz_coarse, graded towards its lowest point, dt = 0.2) on the flat,
+# the incline's slope given by tilting g (f = g (sin theta, 0, -cos theta)) so that the ball presses the mesh's fine
+# pole. Its closed forms are the rigid body's of the mesh's own volume, inertia I and height h of the centre of mass
+# (k = I / (m h^2): 0.397 on hertz_coarse, 2/5 for a sphere): rolling at g sin theta / (1 + k) when
+# tan theta <= F (1 + k) / k, else sliding with the spin F g cos theta m h / I; the skidding launch rolls from
+# t* = v0 k / ((1 + k) F g) at v0 / (1 + k), friction having taken k / (1 + k) of the kinetic energy.
+SPHERE_MASS, SPHERE_INERTIA, SPHERE_H = ball_of_mesh(HERTZ)
+SPHERE_K = SPHERE_INERTIA / (SPHERE_MASS * SPHERE_H**2)
+SPHERE_SLOPES = {"sphere rolls": (10.0, 0.5), "sphere slides": (30.0, 0.1),
+                 "sphere at the threshold": (math.degrees(math.atan(0.2 * (1 + SPHERE_K) / SPHERE_K)), 0.2)}
+SPHERE_ARGS = ["-mesh", HERTZ, "-dt", "0.2", "-initial", "static", "-friction", "coulomb", "-material", "neohookean",
+               "-lambda", "3000", "-mu", "3000", "-T", "10", "-snapshots", "none", "-progress", "0"]
+SPHERES = {
+    **{case: ("ball", SPHERE_ARGS + ["-friction_coefficient", str(F), "-fx", repr(G * math.sin(math.radians(theta))),
+                                     "-fz", repr(-G * math.cos(math.radians(theta)))])
+       for case, (theta, F) in SPHERE_SLOPES.items()},
+    "sphere skidding launch": ("ball", SPHERE_ARGS + ["-friction_coefficient", "0.3", "-v0x", str(V0)]),
+}
+RUNS = [(case, body) for case in CASES for body in BODIES] + [("oblique ball", "linear")] + \
+    [(case, "stiff Neo-Hookean") for case in SPHERES]
+
+
+def parabola(t, y):
+    """The second derivative of the least-squares parabola through (t, y): an acceleration that the body's rocking
+    on its elastic contact, released at t = 0, disturbs less than a straight line through the velocity does."""
+    return np.polyfit(t, y, 2)[0] * 2
+
+
+def turned(h, column):
+    """The angle turned so far, from the angular velocity (trapezoids)."""
+    w = h[column]
+    return np.concatenate([[0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(h["t"]))])
+
+
+def sphere_rows(case, h):
+    """The sphere's rows against the rigid body of the mesh."""
+    k, hh = SPHERE_K, SPHERE_H
+    if case == "sphere skidding launch":
+        t_star, v = rolling_from(h, h["v1_mean"] - hh * h["angular_velocity_2"])
+        mass = np.median(np.diff(h["t"])[1:] * h["contact_force_x"][2:] / np.diff(h["v1_mean"])[1:])
+        work = np.interp(t_star, h["t"], h["friction_work"])
+        return [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G)), ("v1 at t*", v, V0 / (1 + k)),
+                ("friction's work at t* / initial kinetic energy", work / (0.5 * mass * V0**2), k / (1 + k))]
+    theta, F = SPHERE_SLOPES[case]
+    th = math.radians(theta)
+    if math.tan(th) <= F * (1 + k) / k * (1 + 1e-9):
+        a = G * math.sin(th) / (1 + k)
+        alpha = a / hh
+    else:
+        a, alpha = G * (math.sin(th) - F * math.cos(th)), F * G * math.cos(th) / (k * hh)
+    rows = [("acceleration along the slope", parabola(h["t"], h["u1_mean"]), a),
+            ("angular acceleration", parabola(h["t"], turned(h, "angular_velocity_2")), alpha)]
+    return rows[:1] if case == "sphere at the threshold" else rows
 
 
 def slope_closed_form(case):
@@ -66,12 +145,13 @@ def slope_closed_form(case):
 
 
 def slope_case(h, case):
-    """(acceleration along the slope, angular acceleration): least-squares slopes over the run, and the closed form's."""
+    """(acceleration along the slope, angular acceleration) of the parabolas through the centre's displacement along
+    the slope and the angle turned, and the closed form's."""
     th = math.radians(SLOPES[case][0])
-    speed = -(h["v1_mean"] * math.cos(th) + h["v2_mean"] * math.sin(th))
+    along = -(h["u1_mean"] * math.cos(th) + h["u2_mean"] * math.sin(th))
     a, alpha = slope_closed_form(case)
-    return [("acceleration along the slope", np.polyfit(h["t"], speed, 1)[0], a),
-            ("angular acceleration", np.polyfit(h["t"], h["angular_velocity"], 1)[0], alpha)]
+    return [("acceleration along the slope", parabola(h["t"], along), a),
+            ("angular acceleration", parabola(h["t"], turned(h, "angular_velocity")), alpha)]
 
 
 def rolling_from(h, v_contact):
@@ -85,6 +165,8 @@ def rolling_from(h, v_contact):
 
 def rows_of(case, h):
     """The case's rows: (quantity, this code, closed form)."""
+    if case in SPHERES:
+        return sphere_rows(case, h)
     if case in SLOPES:
         return slope_case(h, case)[:1] if case == "at the threshold" else slope_case(h, case)
     if case == "skidding launch":
@@ -109,7 +191,10 @@ def run_dir(out, case, body):
 
 def run_one(out, item):
     case, body = item
-    scene, args = BALL if case == "oblique ball" else (CASES[case][0], CASES[case][1] + BODIES[body])
+    if case in SPHERES:
+        scene, args = SPHERES[case]
+    else:
+        scene, args = BALL if case == "oblique ball" else (CASES[case][0], CASES[case][1] + BODIES[body])
     where = run_dir(out, case, body)
     p = run_driver(scene, where, args, log=where + ".log", cwd=ROOT)
     if p.returncode != 0:
@@ -164,8 +249,8 @@ def main():
     names = list(BODIES)
     lines = ["| case | quantity | rigid body | " + " | ".join(names) + " |", "| --- | --- | ---: |" + " ---: |" * len(names)]
     csv = ["case,body,quantity,this_code,rigid_body,difference"]
-    for case in list(CASES) + ["oblique ball"]:
-        bodies = ["linear"] if case == "oblique ball" else names
+    for case in list(CASES) + list(SPHERES) + ["oblique ball"]:
+        bodies = ["linear"] if case == "oblique ball" else (["stiff Neo-Hookean"] if case in SPHERES else names)
         table = {body: rows_of(case, runs[case, body]) for body in bodies}
         for k, (what, _, want) in enumerate(table[bodies[0]]):
             cells = []
