@@ -12,7 +12,7 @@ and compares it with the rigid body's closed form (g = 0.1, R = 20, a disk: I = 
   skidding launch    v0 = 0.5 on the flat, F = 0.3: it rolls from t* = v0 / (3 F g) at 2 v0 / 3, friction having
                      taken 1/3 of the kinetic energy;
   belt               set down on a belt at V = 0.5, F = 0.3: it rolls from t* = V / (3 F g) at V / 3;
-  the sphere         rolling, sliding, the threshold and the skidding launch of the stiff Neo-Hookean Hertz ball
+  the sphere         rolling, sliding, the threshold, the skidding launch and the belt of the stiff Neo-Hookean Hertz ball
                      (hertz_coarse, dt = 0.2), against the rigid body of its mesh (below, SPHERES);
   oblique ball       the Hertz ball (hertz_coarse, linear, dt = 0.2) thrown at the flat at v_t / v_n = 4 >
                      7/2 F (1 + e): it slides throughout, the tangential impulse F times the normal one, the spin
@@ -86,7 +86,8 @@ def ball_of_mesh(path):
 # pole. Its closed forms are the rigid body's of the mesh's own volume, inertia I and height h of the centre of mass
 # (k = I / (m h^2): 0.397 on hertz_coarse, 2/5 for a sphere): rolling at g sin theta / (1 + k) when
 # tan theta <= F (1 + k) / k, else sliding with the spin F g cos theta m h / I; the skidding launch rolls from
-# t* = v0 k / ((1 + k) F g) at v0 / (1 + k), friction having taken k / (1 + k) of the kinetic energy.
+# t* = v0 k / ((1 + k) F g) at v0 / (1 + k), friction having taken k / (1 + k) of the kinetic energy; on a belt at V
+# it rolls from t* = V k / ((1 + k) F g) at V k / (1 + k).
 SPHERE_MASS, SPHERE_INERTIA, SPHERE_H = ball_of_mesh(HERTZ)
 SPHERE_K = SPHERE_INERTIA / (SPHERE_MASS * SPHERE_H**2)
 SPHERE_SLOPES = {"sphere rolls": (10.0, 0.5), "sphere slides": (30.0, 0.1),
@@ -98,6 +99,7 @@ SPHERES = {
                                      "-fz", repr(-G * math.cos(math.radians(theta)))])
        for case, (theta, F) in SPHERE_SLOPES.items()},
     "sphere skidding launch": ("ball", SPHERE_ARGS + ["-friction_coefficient", "0.3", "-v0x", str(V0)]),
+    "sphere belt": ("ball", SPHERE_ARGS + ["-friction_coefficient", "0.3", "-belt_speed", str(V0)]),
 }
 RUNS = [(case, body) for case in CASES for body in BODIES] + [("oblique ball", "linear")] + \
     [(case, "stiff Neo-Hookean") for case in SPHERES]
@@ -124,6 +126,9 @@ def sphere_rows(case, h):
         work = np.interp(t_star, h["t"], h["friction_work"])
         return [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G)), ("v1 at t*", v, V0 / (1 + k)),
                 ("friction's work at t* / initial kinetic energy", work / (0.5 * mass * V0**2), k / (1 + k))]
+    if case == "sphere belt":
+        t_star, v = rolling_from(h, h["v1_mean"] - hh * h["angular_velocity_2"] - V0)
+        return [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G)), ("v1 at t*", v, V0 * k / (1 + k))]
     theta, F = SPHERE_SLOPES[case]
     th = math.radians(theta)
     if math.tan(th) <= F * (1 + k) / k * (1 + 1e-9):

@@ -380,8 +380,8 @@ def test_make_friction_writes_its_table_and_figure(tmp_path):
     rows = {tuple(line.split(",")[:3]): float(line.split(",")[5]) for line in (out / "friction.csv").read_text().splitlines()[1:]}
     assert abs(rows[("oblique ball", "linear", "tangential impulse / normal impulse")]) < 0.01
     stiff = {key: value for key, value in rows.items() if key[1] == "stiff Neo-Hookean"}
-    assert len(stiff) == 18 and max(abs(v) for v in stiff.values()) < 0.02, stiff
-    assert len(rows) == 40 and (out / "summary.md").exists() and (out / "friction.png").stat().st_size > 10000
+    assert len(stiff) == 20 and max(abs(v) for v in stiff.values()) < 0.02, stiff
+    assert len(rows) == 42 and (out / "summary.md").exists() and (out / "friction.png").stat().st_size > 10000
     bad = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "postprocess", "friction.py"), "--jobs", "0", "--out",
                           str(tmp_path / "bad")], capture_output=True, text=True)
     assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and not (tmp_path / "bad").exists()
