@@ -44,14 +44,15 @@ BODIES = {
     "soft Neo-Hookean": ["-material", "neohookean"],
 }
 THRESHOLD = math.degrees(math.atan(0.6))
-SLOPES = {   # case: (theta in degrees, F, rolls)
-    "incline slides": (30.0, 0.1, False),
-    "incline rolls": (10.0, 0.5, True),
-    "at the threshold": (THRESHOLD, 0.2, True),
+SLOPES = {   # case: (theta in degrees, F)
+    "incline slides": (30.0, 0.1),
+    "incline rolls": (10.0, 0.5),
+    "at the threshold": (THRESHOLD, 0.2),
 }
+DISK_K = 0.5                      # I / (m R^2) of the rigid disk
 CASES = {
     **{case: ("roll", QUIET + ["-angle", repr(theta), "-friction_coefficient", str(F), "-T", "10"])
-       for case, (theta, F, _) in SLOPES.items()},
+       for case, (theta, F) in SLOPES.items()},
     "skidding launch": ("slide", QUIET + ["-T", "12"]),
     "belt": ("belt", QUIET + ["-T", "12"]),
 }
@@ -117,46 +118,54 @@ def turned(h, column):
     return np.concatenate([[0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(h["t"]))])
 
 
-def sphere_rows(case, h):
-    """The sphere's rows against the rigid body of the mesh."""
-    k, hh = SPHERE_K, SPHERE_H
-    if case == "sphere skidding launch":
-        t_star, v = rolling_from(h, h["v1_mean"] - hh * h["angular_velocity_2"])
-        mass = np.median(np.diff(h["t"])[1:] * h["contact_force_x"][2:] / np.diff(h["v1_mean"])[1:])
-        work = np.interp(t_star, h["t"], h["friction_work"])
-        return [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G)), ("v1 at t*", v, V0 / (1 + k)),
-                ("friction's work at t* / initial kinetic energy", work / (0.5 * mass * V0**2), k / (1 + k))]
-    if case == "sphere belt":
-        t_star, v = rolling_from(h, h["v1_mean"] - hh * h["angular_velocity_2"] - V0)
-        return [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G)), ("v1 at t*", v, V0 * k / (1 + k))]
-    theta, F = SPHERE_SLOPES[case]
+def rigid_slope(theta, F, k, lever):
+    """The rigid body's acceleration along a slope theta (degrees) and its angular acceleration, k = I / (m lever^2),
+    lever the height of its centre of mass above the contact point: it rolls at g sin theta / (1 + k) where
+    tan theta <= F (1 + k) / k (a disk: 3 F, 2/3 g sin theta; a sphere: 7/2 F, 5/7 g sin theta), else slides at
+    g (sin theta - F cos theta) with the spin F g cos theta / (k lever)."""
     th = math.radians(theta)
     if math.tan(th) <= F * (1 + k) / k * (1 + 1e-9):
         a = G * math.sin(th) / (1 + k)
-        alpha = a / hh
-    else:
-        a, alpha = G * (math.sin(th) - F * math.cos(th)), F * G * math.cos(th) / (k * hh)
-    rows = [("acceleration along the slope", parabola(h["t"], h["u1_mean"]), a),
-            ("angular acceleration", parabola(h["t"], turned(h, "angular_velocity_2")), alpha)]
+        return a, a / lever
+    return G * (math.sin(th) - F * math.cos(th)), F * G * math.cos(th) / (k * lever)
+
+
+def slope_rows(h, theta, F, k, lever, along, spin):
+    """(acceleration along the slope, angular acceleration) of the parabolas through the centre's displacement along
+    the slope (along) and the angle turned (spin: the angular velocity's column), and the closed form's."""
+    a, alpha = rigid_slope(theta, F, k, lever)
+    return [("acceleration along the slope", parabola(h["t"], along), a),
+            ("angular acceleration", parabola(h["t"], turned(h, spin)), alpha)]
+
+
+def launch_rows(h, v_contact, k, belt):
+    """The skidding launch (v0 = V0, F = 0.3) or the belt (V = V0) of a rigid body with k = I / (m lever^2), from the
+    contact point's velocity relative to the foundation: it rolls from t* = V0 k / ((1 + k) F g), at V0 / (1 + k)
+    (friction having taken k / (1 + k) of the kinetic energy), or on the belt at V0 k / (1 + k)."""
+    t_star, v = rolling_from(h, v_contact)
+    rows = [("t* (rolling from)", t_star, V0 * k / ((1 + k) * 0.3 * G))]
+    if belt:
+        return rows + [("v1 at t*", v, V0 * k / (1 + k))]
+    mass = np.median(np.diff(h["t"])[1:] * h["contact_force_x"][2:] / np.diff(h["v1_mean"])[1:])
+    work = np.interp(t_star, h["t"], h["friction_work"])
+    return rows + [("v1 at t*", v, V0 / (1 + k)),
+                   ("friction's work at t* / initial kinetic energy", work / (0.5 * mass * V0**2), k / (1 + k))]
+
+
+def sphere_rows(case, h):
+    """The sphere's rows against the rigid body of the mesh (its contact point below the centre, its spin about X2)."""
+    if case in ("sphere skidding launch", "sphere belt"):
+        belt = case == "sphere belt"
+        return launch_rows(h, h["v1_mean"] - SPHERE_H * h["angular_velocity_2"] - (V0 if belt else 0), SPHERE_K, belt)
+    theta, F = SPHERE_SLOPES[case]
+    rows = slope_rows(h, theta, F, SPHERE_K, SPHERE_H, h["u1_mean"], "angular_velocity_2")
     return rows[:1] if case == "sphere at the threshold" else rows
 
 
-def slope_closed_form(case):
-    """The rigid disk's acceleration along the slope and angular acceleration."""
-    theta, F, rolls = SLOPES[case]
+def disk_along(h, theta):
+    """The disk's centre's displacement down the slope theta (degrees)."""
     th = math.radians(theta)
-    a = 2 / 3 * G * math.sin(th) if rolls else G * (math.sin(th) - F * math.cos(th))
-    return a, (a / R if rolls else 2 * F * G * math.cos(th) / R)
-
-
-def slope_case(h, case):
-    """(acceleration along the slope, angular acceleration) of the parabolas through the centre's displacement along
-    the slope and the angle turned, and the closed form's."""
-    th = math.radians(SLOPES[case][0])
-    along = -(h["u1_mean"] * math.cos(th) + h["u2_mean"] * math.sin(th))
-    a, alpha = slope_closed_form(case)
-    return [("acceleration along the slope", parabola(h["t"], along), a),
-            ("angular acceleration", parabola(h["t"], turned(h, "angular_velocity")), alpha)]
+    return -(h["u1_mean"] * math.cos(th) + h["u2_mean"] * math.sin(th))
 
 
 def rolling_from(h, v_contact):
@@ -173,16 +182,12 @@ def rows_of(case, h):
     if case in SPHERES:
         return sphere_rows(case, h)
     if case in SLOPES:
-        return slope_case(h, case)[:1] if case == "at the threshold" else slope_case(h, case)
-    if case == "skidding launch":
-        t_star, v = rolling_from(h, h["v1_mean"] + R * h["angular_velocity"])
-        mass = np.median(np.diff(h["t"])[1:] * h["contact_force_x"][2:] / np.diff(h["v1_mean"])[1:])
-        work = np.interp(t_star, h["t"], h["friction_work"])
-        return [("t* (rolling from)", t_star, V0 / (3 * 0.3 * G)), ("v1 at t*", v, 2 * V0 / 3),
-                ("friction's work at t* / initial kinetic energy", work / (0.5 * mass * V0**2), 1 / 3)]
-    if case == "belt":
-        t_star, v = rolling_from(h, h["v1_mean"] + R * h["angular_velocity"] - V0)
-        return [("t* (rolling from)", t_star, V0 / (3 * 0.3 * G)), ("v1 at t*", v, V0 / 3)]
+        theta, F = SLOPES[case]
+        rows = slope_rows(h, theta, F, DISK_K, R, disk_along(h, theta), "angular_velocity")
+        return rows[:1] if case == "at the threshold" else rows
+    if case in ("skidding launch", "belt"):     # (the disk turns counter-clockwise > 0: its contact point moves at v1 + R omega)
+        belt = case == "belt"
+        return launch_rows(h, h["v1_mean"] + R * h["angular_velocity"] - (V0 if belt else 0), DISK_K, belt)
     normal = h["contact_force_z"].sum()
     tangential = math.hypot(h["contact_force_x"].sum(), h["contact_force_y"].sum())
     e = h["v3_mean"][-1] / 0.0125
@@ -213,9 +218,9 @@ def figure(out, runs):
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.6), layout="constrained")
     for case, ax in (("incline slides", axes[0]), ("incline rolls", axes[1])):
-        theta, F, rolls = SLOPES[case]
+        theta, F = SLOPES[case]
         th = math.radians(theta)
-        a, alpha = slope_closed_form(case)
+        a, alpha = rigid_slope(theta, F, DISK_K, R)
         for body, style in (("stiff Neo-Hookean", "-"), ("stiff linear", ":")):
             h = runs[case, body]
             ax.plot(h["t"], -(h["v1_mean"] * math.cos(th) + h["v2_mean"] * math.sin(th)), "C0" + style,
