@@ -13,7 +13,7 @@ import os
 import numpy as np
 import pytest
 
-from conftest import ROOT, restart_reproduces, run_scenes
+from conftest import ROOT, error_lines, refused_into_copy, restart_reproduces, run_scenes
 from history import read_run
 
 QUIET = ["-progress", "0", "-snapshots", "none"]
@@ -121,3 +121,17 @@ def test_newton_settles_where_its_sets_cycle(nh_runs):
     assert len(h["t"]) == 11
     assert h["stick_nodes"][1] > 40 and h["slip_nodes"][1] > 20
     assert (h["v1_mean"][1:] - 19.7 * h["angular_velocity_2"][1:]).min() > 0
+
+
+def test_ipopt_with_friction_on_a_non_linear_ball_names_newton(tmp_path, earlier_run):
+    """-solver ipopt with friction on the 3D Neo-Hookean ball: the line names what the material's step is (Newton's),
+    not the linear body's advice to use the active set, which the material refuses too; exit 3, the earlier run in OUT
+    byte-identical."""
+    p, changed = refused_into_copy(tmp_path, earlier_run, "ball", ["-material", "neohookean", "-friction", "coulomb",
+                                                                   "-friction_coefficient", "0.3", "-solver", "ipopt",
+                                                                   "-T", "1"])
+    assert p.returncode == 3 and error_lines(p) == [
+        "error: -solver ipopt does not apply to -material neohookean: its step is not the minimisation of a functional "
+        "(the tangent of the mid-point force is not symmetric), so it is not the QP that ipopt solves; use -solver "
+        "newton (the default for neohookean)"], p.stderr
+    assert not changed
