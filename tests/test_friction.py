@@ -348,15 +348,40 @@ def test_3d_oblique_impact_in_gross_slip(ball_runs):
     assert abs(h["angular_velocity_2"][-1] / omega - 1) < 0.01, (h["angular_velocity_2"][-1], omega)
 
 
-def test_3d_friction_with_ipopt_is_refused(tmp_path, earlier_run):
-    """On a 3D body the slip is a vector, its |s| a second-order cone that the QP of contact/friction_ipopt.idp does
-    not take yet: -solver ipopt is refused in one line (exit 3), and the earlier run in OUT stays byte-identical."""
-    p, changed = refused_into_copy(tmp_path, earlier_run, "ball", ["-friction", "coulomb", "-friction_coefficient", "0.3",
-                                                                   "-solver", "ipopt", "-T", "1"])
-    assert p.returncode == 3 and error_lines(p) == [
-        "error: -friction coulomb with -solver ipopt is not supported on a 3D body yet (its slip is a second-order "
-        "cone): use -solver activeset, the default with friction"], p.stderr
-    assert not changed
+def test_3d_ipopt_agrees_with_the_active_set(tmp_path):
+    """-solver ipopt on a 3D body solves the step's dual in (lm_N, lm_T) on the candidate contact nodes, with the slip
+    bounds |lm_T,j| <= b_j as smooth ball constraints (the primal's cone |s| <= z has no constraint qualification at
+    its apex, where a sticking node sits: contact/friction_ipopt.idp). It agrees with the exact active set to IPOPT's
+    tolerance (-tol 1e-8) on the ball over 20 steps: skidding (Coulomb, every pressed node slipping), Tresca, and rolling
+    down the tilted-g slope (its patch sticking; a node at the patch's edge, |lm_T| within -tol of b, may count as
+    either). The forces are compared with the total one: the y force is round-off's on these runs, symmetric in X2."""
+    tilt = ["-fx", repr(0.1 * math.sin(math.radians(10))), "-fz", repr(-0.1 * math.cos(math.radians(10)))]
+    cases = {"skid": ["-v0x", "0.5", "-friction", "coulomb", "-friction_coefficient", "0.3", "-T", "1"],
+             "tresca": ["-v0x", "0.5", "-friction", "tresca", "-friction_bound", "0.5", "-T", "1"],
+             "roll": tilt + ["-friction", "coulomb", "-friction_coefficient", "0.5", "-T", "1"]}
+    runs = {f"{case} {solver}": ("ball", ["-initial", "static", "-solver", solver] + args + QUIET)
+            for case, args in cases.items() for solver in ("ipopt", "activeset")}
+    h = {name: read_run(d) for name, d in run_scenes(tmp_path, runs).items()}
+    for case in cases:
+        a, b = h[case + " ipopt"], h[case + " activeset"]
+        for column, size in (("v1_mean", 0.5), ("angular_velocity_2", 0.01), ("u1_mean", 1), ("u3_mean", 1)):
+            assert np.abs(a[column] - b[column]).max() < 1e-7 * size, (case, column)
+        force = np.abs(b["contact_force_z"]).max()      # (the y force is round-off's on these symmetric runs)
+        for column in ("contact_force_x", "contact_force_y", "contact_force_z"):
+            assert np.abs(a[column] - b[column]).max() < 1e-6 * force, (case, column)
+        assert np.abs(a["friction_work"] - b["friction_work"]).max() < 1e-6 * max(b["friction_work"].max(), 1.0), case
+        assert (a["active_nodes"] == b["active_nodes"]).all(), case
+        edge = np.abs(a["slip_nodes"] - b["slip_nodes"])
+        assert edge.max() <= (1 if case == "roll" else 0) and (edge > 0).sum() <= 2, case
+        assert a["newton_iterations"].max() <= 30, case       # (IPOPT solves a step: the bounds' fixed point)
+
+
+def test_a_3d_ipopt_friction_run_restarts_to_the_bit(tmp_path):
+    """The dual's candidate nodes start from the last step's pressed set and its multipliers, both in the checkpoint:
+    the skidding ball on IPOPT restarted at t = 0.5 gives the uninterrupted run's files byte for byte."""
+    args = ["-initial", "static", "-v0x", "0.5", "-friction", "coulomb", "-friction_coefficient", "0.3", "-solver",
+            "ipopt", "-checkpoint_every", "10"] + QUIET
+    restart_reproduces("ball", tmp_path, args, 0.5, 1)
 
 
 def test_a_3d_friction_run_restarts_to_the_bit(tmp_path):
