@@ -17,12 +17,14 @@ and compares it with the rigid body's closed form (g = 0.1, R = 20, a disk: I = 
   oblique ball       the Hertz ball (hertz_coarse, linear, dt = 0.2) thrown at the flat at v_t / v_n = 4 >
                      7/2 F (1 + e): it slides throughout, the tangential impulse F times the normal one, the spin
                      5 F (1 + e) v_n / (2 R), e its measured normal restitution.
+  below gross slip   the same ball at normalised incidences Psi1 = 0.5 ... 8 (Maw, Barber and Fawcett's), against their
+                     theory (postprocess/oblique_theory.py): the normalised rebound Psi2 and the spin.
 Released at t = 0, a body rocks on its elastic contact (a period of about 3 on the stiff disk), so the incline's
 accelerations are those of the least-squares parabolas through the centre's displacement and the angle turned over
 the run, not the last values of the speed and the spin.
 Writes OUT/summary.md (a table: each quantity, the closed form, and each body's value and difference),
 OUT/friction.csv and OUT/friction.png/.pdf (the stiff Neo-Hookean disk's speed and spin against the closed forms,
-the linear body's beside them); each run in OUT/<case>/<body>/. A run that fails stops the study with one `error:`
+the linear body's beside them), OUT/oblique.csv and OUT/friction_oblique.png/.pdf (the oblique impacts); each run in OUT/<case>/<body>/. A run that fails stops the study with one `error:`
 line and exit status 1.
 """
 import math
@@ -35,6 +37,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jobs  # noqa: E402
 from driver import ROOT, run_case as run_driver  # noqa: E402
 from history import read_run  # noqa: E402
+import oblique_theory  # noqa: E402
 
 G, R, V0 = 0.1, 20.0, 0.5
 QUIET = ["-initial", "static", "-snapshots", "none", "-progress", "0"]
@@ -102,8 +105,15 @@ SPHERES = {
     "sphere skidding launch": ("ball", SPHERE_ARGS + ["-friction_coefficient", "0.3", "-v0x", str(V0)]),
     "sphere belt": ("ball", SPHERE_ARGS + ["-friction_coefficient", "0.3", "-belt_speed", str(V0)]),
 }
+# Below gross slip: the oblique ball at normalised incidences Psi1 = c V_t1 / (F V_n1) (c = 2 (1 - nu) / (2 - nu),
+# nu = 1/4 at lambda = mu) against Maw, Barber and Fawcett's theory (postprocess/oblique_theory.py)
+OBLIQUE_NU, OBLIQUE_VN, OBLIQUE_F = 0.25, 0.0125, 0.3
+OBLIQUE_C = 2 * (1 - OBLIQUE_NU) / (2 - OBLIQUE_NU)
+OBLIQUE_PSI1 = [0.5, 1, 2, 3, 4, 5, 6, 8]
+OBLIQUES = {f"oblique ball Psi1 = {p:g}": ("oblique_ball", BALL[1] + ["-v0x", repr(p * OBLIQUE_F * OBLIQUE_VN / OBLIQUE_C)])
+            for p in OBLIQUE_PSI1}
 RUNS = [(case, body) for case in CASES for body in BODIES] + [("oblique ball", "linear")] + \
-    [(case, "stiff Neo-Hookean") for case in SPHERES]
+    [(case, "stiff Neo-Hookean") for case in SPHERES] + [(case, "linear") for case in OBLIQUES]
 
 
 def parabola(t, y):
@@ -201,8 +211,8 @@ def run_dir(out, case, body):
 
 def run_one(out, item):
     case, body = item
-    if case in SPHERES:
-        scene, args = SPHERES[case]
+    if case in SPHERES or case in OBLIQUES:
+        scene, args = SPHERES[case] if case in SPHERES else OBLIQUES[case]
     else:
         scene, args = BALL if case == "oblique ball" else (CASES[case][0], CASES[case][1] + BODIES[body])
     where = run_dir(out, case, body)
@@ -242,6 +252,50 @@ def figure(out, runs):
         fig.savefig(os.path.join(out, f"friction.{ext}"), dpi=110)
 
 
+def oblique_sweep(out, runs):
+    """The oblique impacts below and above gross slip against Maw, Barber and Fawcett's theory: the normalised
+    rebound Psi2 = c V_t2 / (F V_n1) and the spin over the rigid ball's in gross slip, omega_gs = F (1 + e) V_n1 / (k h),
+    each run's e its own; the contact point's tangential velocity is v1 - h omega_2. Writes OUT/oblique.csv and
+    OUT/friction_oblique.png/.pdf; returns the summary's table."""
+    nu, k, h = OBLIQUE_NU, SPHERE_K, SPHERE_H
+    rows = []
+    for p1 in OBLIQUE_PSI1:
+        hist = runs[f"oblique ball Psi1 = {p1:g}", "linear"]
+        e = hist["v3_mean"][-1] / OBLIQUE_VN
+        vt2 = hist["v1_mean"][-1] - h * hist["angular_velocity_2"][-1]
+        spin = hist["angular_velocity_2"][-1] * k * h / (OBLIQUE_F * (1 + e) * OBLIQUE_VN)
+        rows.append((p1, OBLIQUE_C * vt2 / (OBLIQUE_F * OBLIQUE_VN), spin, e))
+    psi1 = np.array([r[0] for r in rows])
+    psi2_theory, spin_theory = oblique_theory.rebound(psi1, nu, k)
+    gross = oblique_theory.gross_slip(psi1, nu, k, np.array([r[3] for r in rows]))
+    csv = ["psi1,psi2,psi2_theory,psi2_gross_slip,spin_ratio,spin_ratio_theory,normal_restitution"]
+    lines = ["| Psi1 | Psi2 | Psi2, theory | Psi2, rigid gross slip | spin / gross slip's | theory | e |",
+             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for (p1, p2, spin, e), t2, g2, ts in zip(rows, psi2_theory, gross, spin_theory):
+        csv.append(f"{p1:g},{p2:.6g},{t2:.6g},{g2:.6g},{spin:.6g},{ts:.6g},{e:.6g}")
+        lines.append(f"| {p1:g} | {p2:.3f} | {t2:.3f} | {g2:.3f} | {spin:.3f} | {ts:.3f} | {e:.4f} |")
+    with open(os.path.join(out, "oblique.csv"), "w") as f:
+        f.write("\n".join(csv) + "\n")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fine = np.linspace(0.1, max(OBLIQUE_PSI1), 80)
+    fine2, fine_spin = oblique_theory.rebound(fine, nu, k)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), layout="constrained")
+    axes[0].plot(fine, fine2, "k-", lw=1, label="Maw, Barber and Fawcett's model (MDR)")
+    axes[0].plot(fine, oblique_theory.gross_slip(fine, nu, k, 1.0), "k:", lw=1, label="rigid ball, gross slip (e = 1)")
+    axes[0].plot(psi1, [r[1] for r in rows], "o", label="this code (linear Hertz ball)")
+    axes[0].set(xlabel="Psi1 = c V_t1 / (F V_n1)", ylabel="Psi2 = c V_t2 / (F V_n1)")
+    axes[1].plot(fine, fine_spin, "k-", lw=1, label="model (MDR)")
+    axes[1].plot(psi1, [r[2] for r in rows], "o", label="this code")
+    axes[1].set(xlabel="Psi1", ylabel="spin / rigid gross slip's")
+    for ax in axes:
+        ax.legend(fontsize=7)
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(out, f"friction_oblique.{ext}"), dpi=110)
+    return "\n".join(lines)
+
+
 def main():
     ap = jobs.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="results/friction")
@@ -276,7 +330,7 @@ def main():
                 csv.append(f"{case},linear,{what},{got:.9g},{want:.9g},{got / want - 1:.6g}")
                 cells = [f"{got:.6g} ({100 * (got / want - 1):+.2f}%), the linear Hertz ball", "", ""]
             lines.append(f"| {case} | {what} | {want:.6g} | " + " | ".join(cells) + " |")
-    text = "\n".join(lines)
+    text = "\n".join(lines) + "\n\nThe oblique ball below and above gross slip (oblique.csv):\n\n" + oblique_sweep(out, runs)
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write(text + "\n")
     with open(os.path.join(out, "friction.csv"), "w") as f:
