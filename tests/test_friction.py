@@ -355,13 +355,18 @@ def test_3d_ipopt_agrees_with_the_active_set(tmp_path):
     its apex, where a sticking node sits: contact/friction_ipopt.idp). It agrees with the exact active set to IPOPT's
     tolerance (-tol 1e-8) on the ball over 20 steps: skidding (Coulomb, every pressed node slipping), Tresca, and rolling
     down the tilted-g slope (its patch sticking; a node at the patch's edge, |lm_T| within -tol of b, may count as
-    either). The forces are compared with the total one: the y force is round-off's on these runs, symmetric in X2."""
+    either); and thrown onto Test 2's moving foundation (ball_moving to T = 13, 79 steps in contact, where the
+    bounds' fixed point once went back and forth between two solves). The forces are compared with the total one:
+    the y force is round-off's on these runs, symmetric in X2."""
     tilt = ["-fx", repr(0.1 * math.sin(math.radians(10))), "-fz", repr(-0.1 * math.cos(math.radians(10)))]
-    cases = {"skid": ["-v0x", "0.5", "-friction", "coulomb", "-friction_coefficient", "0.3", "-T", "1"],
-             "tresca": ["-v0x", "0.5", "-friction", "tresca", "-friction_bound", "0.5", "-T", "1"],
-             "roll": tilt + ["-friction", "coulomb", "-friction_coefficient", "0.5", "-T", "1"]}
-    runs = {f"{case} {solver}": ("ball", ["-initial", "static", "-solver", solver] + args + QUIET)
-            for case, args in cases.items() for solver in ("ipopt", "activeset")}
+    static = ["-initial", "static"]
+    cases = {"skid": ("ball", static + ["-v0x", "0.5", "-friction", "coulomb", "-friction_coefficient", "0.3", "-T", "1"]),
+             "tresca": ("ball", static + ["-v0x", "0.5", "-friction", "tresca", "-friction_bound", "0.5", "-T", "1"]),
+             "roll": ("ball", static + tilt + ["-friction", "coulomb", "-friction_coefficient", "0.5", "-T", "1"]),
+             "moving": ("ball_moving", ["-t1", "22", "-v0x", "0.2", "-friction", "coulomb", "-friction_coefficient", "0.3",
+                                        "-T", "13"])}
+    runs = {f"{case} {solver}": (scene, ["-solver", solver] + args + QUIET)
+            for case, (scene, args) in cases.items() for solver in ("ipopt", "activeset")}
     h = {name: read_run(d) for name, d in run_scenes(tmp_path, runs).items()}
     for case in cases:
         a, b = h[case + " ipopt"], h[case + " activeset"]
