@@ -38,11 +38,10 @@ def rebound(psi1, nu, k, springs=1500, steps=6000):
     for p1 in psi1:
         vt = p1 / c                           # V_t1 = psi1 F V_n1 / c, no spin
         d, vn, omega, w = 0.0, 1.0, 0.0, np.zeros(springs)
-        fn_springs = estar * dx * np.maximum(0.0, d - x * x)
+        fn_springs = estar * dx * np.maximum(0.0, d - x * x)     # (then the last step's, at the same d)
         started = False
         while True:
             # the springs' forces at (d, w), then a velocity Verlet step of d and a mid-point one of the slip
-            fn_springs = estar * dx * np.maximum(0.0, d - x * x)
             contact = fn_springs > 0
             w[~contact] = 0.0
             limit = fn_springs / (gstar * dx)           # (F = 1)
