@@ -50,7 +50,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods friction scenes clean
+.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods friction sliding scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -256,6 +256,11 @@ hertz: meshes/hertz.msh meshes/hertz_coarse.msh | deps-plot
 # ---- friction's closed-form rigid-body benchmarks (postprocess/friction.py, docs/friction.md); results/friction/summary.md
 friction: meshes meshes/hertz_coarse.msh | deps-plot
 	$(PYTHON) postprocess/friction.py --out $(RESULTS)/friction --jobs $(JOBS)
+
+# ---- the exact gap against the bowl's closed-form periods, and (10)'s error on the paper's tests
+# (postprocess/sliding.py, docs/sliding.md); results/sliding/summary.md
+sliding: meshes | deps-plot
+	$(PYTHON) postprocess/sliding.py --out $(RESULTS)/sliding --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment
 scenes:

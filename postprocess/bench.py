@@ -119,17 +119,20 @@ def main():
                         "into bench_step_cost.md and .csv")
     p.add_argument("--friction-only", action="store_true",
                    help="only friction's cost against the frictionless run (issue 35), into bench_friction.md and .csv")
+    p.add_argument("--gap-only", action="store_true",
+                   help="only the exact gap's cost against the linearised one (issue 36), into bench_gap.md and .csv")
     p.add_argument("--nh-only", action="store_true",
                    help="only the SVK and Neo-Hookean cases (with the linear active-set ones), each run --repeat times, "
                         "alternated; into bench_neohookean.md and .csv (bench.md is left as it is)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     stem = ("bench_neohookean" if a.nh_only else "bench_ball" if a.ball_only else "bench_parallel" if a.parallel_only else
-            "bench_step_cost" if a.step_cost_only else "bench_friction" if a.friction_only else "bench")
+            "bench_step_cost" if a.step_cost_only else "bench_friction" if a.friction_only else "bench_gap" if a.gap_only
+            else "bench")
     jobs.stop_on_interrupt("make bench", a.out, [f"{stem}.md", f"{stem}.csv"])
-    if a.ball_only or a.parallel_only or a.step_cost_only or a.friction_only:
+    if a.ball_only or a.parallel_only or a.step_cost_only or a.friction_only or a.gap_only:
         rows, text = (ball_section(a.out, a.repeat) if a.ball_only else step_cost_section(a.out, a.repeat) if a.step_cost_only
-                      else friction_section(a.out, a.repeat) if a.friction_only
+                      else friction_section(a.out, a.repeat) if a.friction_only else gap_section(a.out, a.repeat) if a.gap_only
                       else parallel_section(a.out, a.repeat, a.meshes.split(",") if a.meshes else None))
         print(text)
         write_tables(a.out, stem, rows, text)
@@ -287,6 +290,10 @@ def main():
     parallel_rows, parallel_text = parallel_section(a.out, a.repeat)
     rows += parallel_rows
     lines += ["", "-np N (docs/parallel.md):", "", parallel_text]
+    for title, section in (("Friction (docs/friction.md):", friction_section), ("The exact gap (docs/sliding.md):", gap_section)):
+        part_rows, part_text = section(a.out, a.repeat)
+        rows += part_rows
+        lines += ["", title, "", part_text]
     text = "\n".join(lines)
     print(text)
     write_tables(a.out, "bench", rows, text)
@@ -534,38 +541,71 @@ FRICTION_GROUPS = [
 ]
 
 
-def friction_section(out_base, repeat):
-    """Each group's runs, alternated, with one step of each (the set-up: the static start, the factorisation); the
-    loop's ms per step, its ratio to the frictionless run's, and the iterations of a step's sets (or IPOPT's solves)."""
-    rows, lines = [], ["Per step of the time loop (a run's wall time less its one-step run's, per further step), with "
-                       "friction against the frictionless run of the same scene; iterations: a QP step's stick and slip "
-                       "iterations (IPOPT: its solves).", "",
-                       "| body | run | steps | ms/step | ÷ frictionless | iterations per step (mean, max) | Schur solves |",
-                       "| --- | --- | ---: | ---: | ---: | --- | ---: |"]
-    for body, scene, base, variants in FRICTION_GROUPS:
+def side_by_side(out_base, repeat, groups, prefix, baseline, cells):
+    """Each group's runs, alternated, with one step of each (the set-up: the static start, the factorisation): per
+    variant the loop's ms per step, its ratio to the baseline variant's, and cells(name, history, out dir)'s columns."""
+    rows, lines = [], []
+    for body, scene, base, variants in groups:
         group = []
         for name, args in variants:
             full = base + args
             if full.count("-T") > 1:          # (a variant's own horizon replaces the group's)
                 at = full.index("-T")
                 full = full[:at] + full[at + 2:]
-            group.append((f"friction {body} {name}", scene, full))
+            group.append((f"{prefix} {body} {name}", scene, full))
             at = full.index("-T")
-            group.append((f"friction {body} {name} set-up", scene, full[:at] + full[at + 2:] + ["-T", "0.05"]))
+            group.append((f"{prefix} {body} {name} set-up", scene, full[:at] + full[at + 2:] + ["-T", "0.05"]))
         by = {r["case"]: r for r in timed_group(out_base, group, repeat)}
         rows += list(by.values())
         plain = None
         for name, _ in variants:
-            run, one = by[f"friction {body} {name}"], by[f"friction {body} {name} set-up"]
+            run, one = by[f"{prefix} {body} {name}"], by[f"{prefix} {body} {name} set-up"]
             ms = ms_after_first_step(run, one)
-            plain = ms if name == "frictionless" else plain
-            out = os.path.join(out_base, f"friction {body} {name}".replace(" ", "_"))
-            h = read_run(out)
-            qp = h["qp_solved"] > 0
-            its = h["newton_iterations"][qp] if name != "frictionless" else np.zeros(1)
+            plain = ms if name == baseline else plain
+            out = os.path.join(out_base, f"{prefix} {body} {name}".replace(" ", "_"))
             lines.append(f"| {body} | {name} | {run['steps']} | {ms:.2f} | {ms / plain:.2f} | "
-                         f"{its.mean():.2f}, {its.max():.0f} | {read_summary(out).get('schur_solves', '-')} |")
-    return rows, "\n".join(lines)
+                         + " | ".join(cells(name, read_run(out), out)) + " |")
+    return rows, lines
+
+
+def friction_section(out_base, repeat):
+    """Each group's runs, alternated, with one step of each (the set-up: the static start, the factorisation); the
+    loop's ms per step, its ratio to the frictionless run's, and the iterations of a step's sets (or IPOPT's solves)."""
+    def cells(name, h, out):
+        qp = h["qp_solved"] > 0
+        its = h["newton_iterations"][qp] if name != "frictionless" else np.zeros(1)
+        return [f"{its.mean():.2f}, {its.max():.0f}", read_summary(out).get('schur_solves', '-')]
+    rows, lines = side_by_side(out_base, repeat, FRICTION_GROUPS, "friction", "frictionless", cells)
+    return rows, "\n".join(["Per step of the time loop (a run's wall time less its one-step run's, per further step), with "
+                            "friction against the frictionless run of the same scene; iterations: a QP step's stick and slip "
+                            "iterations (IPOPT: its solves).", "",
+                            "| body | run | steps | ms/step | ÷ frictionless | iterations per step (mean, max) | Schur solves |",
+                            "| --- | --- | ---: | ---: | ---: | --- | ---: |"] + lines)
+
+
+# ---- the exact gap (issue 36): -gap exact against the paper's -gap linearised, side by side, on Test 2 (the same
+# motion under both: its foundation is concave where the disk lands) and on the bowl, where (10) lets the body sink to
+# the bottom (fewer QPs: the ratio is not that of the same motion); rounds: the QPs solved again per step
+GAP_GROUPS = [
+    ("test2", "test2", ["-T", "30", "-t1", "18", "-solver", "activeset"], [("linearised", []), ("exact", ["-gap", "exact"])]),
+    ("disk bowl", "bowl", ["-T", "40"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
+    ("ball bowl", "bowl", ["-T", "40", "-mesh", "meshes/ball.msh"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
+]
+
+
+def gap_section(out_base, repeat):
+    def cells(name, h, out):
+        steps = len(h["t"]) - 1
+        rounds = int(read_summary(out).get("exact_gap_rounds", 0))
+        return [f"{int(h['qp_solved'].sum())}", f"{rounds / steps:.2f}", f"{h['max_penetration_exact'].max():.2g}",
+                f"{h['max_held_off_exact'].max():.2g}"]
+    rows, lines = side_by_side(out_base, repeat, GAP_GROUPS, "gap", "linearised", cells)
+    return rows, "\n".join(["Per step of the time loop (a run's wall time less its one-step run's, per further step), "
+                            "-gap exact against the paper's -gap linearised; rounds: the QPs solved again per step, with the "
+                            "rows linearised about the last result.", "",
+                            "| body | gap | steps | ms/step | ÷ linearised | QP steps | rounds per step | "
+                            "max_penetration_exact | max_held_off_exact |",
+                            "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"] + lines)
 
 
 # ---- -np N: the ball starting in contact (IMPACT, every step a QP with new Schur columns), to
