@@ -101,10 +101,13 @@ def test_the_closed_form_period():
     assert abs(sliding.pendulum_period(1.0) - 4 * 20 * 1.598142002) < 1e-6
 
 
-def test_an_exact_gap_run_restarts_to_the_bit(tmp_path):
+@pytest.mark.parametrize("extra", [[], ["-material", "neohookean", "-friction", "coulomb", "-friction_coefficient", "0.5"]],
+                         ids=["linear", "neohookean_coulomb"])
+def test_an_exact_gap_run_restarts_to_the_bit(tmp_path, extra):
     """A -gap exact run restarted at t = 10 gives the uninterrupted run's history.csv and checkpoint.txt byte for
-    byte (the rows are linearised about u^n first, a function of the checkpoint's state)."""
-    restart_reproduces("bowl", tmp_path, COARSE + ["-checkpoint_every", "25"], 10, 20)
+    byte (the rows are linearised about u^n first, a function of the checkpoint's state): the linear body's rounds,
+    and Newton's rows about its iterates with Coulomb's friction."""
+    restart_reproduces("bowl", tmp_path, COARSE + extra + ["-checkpoint_every", "25"], 10, 20)
 
 
 @pytest.mark.parametrize("args, line", [
