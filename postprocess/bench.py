@@ -554,7 +554,8 @@ def side_by_side(out_base, repeat, groups, prefix, baseline, cells):
                 full = full[:at] + full[at + 2:]
             group.append((f"{prefix} {body} {name}", scene, full))
             at = full.index("-T")
-            group.append((f"{prefix} {body} {name} set-up", scene, full[:at] + full[at + 2:] + ["-T", "0.05"]))
+            step = full[full.index("-dt") + 1] if "-dt" in full else "0.05"     # (one step: the scene's -dt is given)
+            group.append((f"{prefix} {body} {name} set-up", scene, full[:at] + full[at + 2:] + ["-T", step]))
         by = {r["case"]: r for r in timed_group(out_base, group, repeat)}
         rows += list(by.values())
         plain = None
@@ -588,8 +589,8 @@ def friction_section(out_base, repeat):
 # the bottom (fewer QPs: the ratio is not that of the same motion); rounds: the QPs solved again per step
 GAP_GROUPS = [
     ("test2", "test2", ["-T", "30", "-t1", "18", "-solver", "activeset"], [("linearised", []), ("exact", ["-gap", "exact"])]),
-    ("disk bowl", "bowl", ["-T", "40"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
-    ("ball bowl", "bowl", ["-T", "40", "-mesh", "meshes/ball.msh"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
+    ("disk bowl", "bowl", ["-T", "40", "-dt", "0.2"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
+    ("ball bowl", "bowl", ["-T", "40", "-dt", "0.2", "-mesh", "meshes/ball.msh"], [("linearised", ["-gap", "linearised"]), ("exact", [])]),
 ]
 
 

@@ -99,7 +99,8 @@ def test_parallel_runs_equal_the_serial_ones(runs, name, n):
     for group, gap in found.items():
         assert gap <= tol[group], f"{group}: {gap:.3g} > {tol[group]:g}"
     # every column is compared: the groups, the counts, the penetration (below), the step and the time
-    assert set(serial) <= compared | set(EXACT) | {"step", "t", "max_penetration", "max_penetration_outside"}
+    assert set(serial) <= compared | set(EXACT) | {"step", "t", "max_penetration", "max_penetration_outside",
+                                                   "max_penetration_exact", "max_held_off_exact"}
     assert np.array_equal(serial["t"], parallel["t"])
     summary = read_summary(runs[f"{name}_np{n}"])
     assert int(summary["processes"]) == n and int(summary["krylov_solves"]) > 0
@@ -111,8 +112,9 @@ def test_parallel_runs_equal_the_serial_ones(runs, name, n):
         assert parallel["max_penetration"].max() <= 1e-9 * 20
     else:
         assert abs(parallel["max_penetration"].max() - serial["max_penetration"].max()) <= 1e-6 * displacement
-    if "max_penetration_outside" in serial:
-        assert np.abs(serial["max_penetration_outside"] - parallel["max_penetration_outside"]).max() <= 1e-9 * 20
+    for c in ("max_penetration_outside", "max_penetration_exact", "max_held_off_exact"):
+        if c in serial:
+            assert np.abs(serial[c] - parallel[c]).max() <= 1e-9 * 20, c
 
 
 def test_only_process_0_writes_and_the_files_are_the_serial_ones(runs):

@@ -29,6 +29,7 @@ RUNS = {
     "bump_linearised": ("bump", ["-solver", "activeset"] + QUIET),
     "bump_neohookean": ("bump", ["-T", "20", "-material", "neohookean", "-gap", "exact"] + QUIET),
     "wave_exact": ("wave", ["-T", "20", "-solver", "activeset", "-gap", "exact"] + QUIET),
+    "test2_coulomb_exact": ("test2", ["-T", "30", "-friction", "coulomb", "-friction_coefficient", "1", "-gap", "exact"] + QUIET),
 }
 
 
@@ -38,10 +39,12 @@ def gap_runs(tmp_path_factory):
     return {name: read_run(d) for name, d in dirs.items()} | {"dirs": dirs}
 
 
-@pytest.mark.parametrize("name", ["bowl", "ball_bowl", "flat_exact", "bump_exact", "bump_neohookean", "wave_exact"])
+@pytest.mark.parametrize("name", ["bowl", "ball_bowl", "flat_exact", "bump_exact", "bump_neohookean", "wave_exact",
+                                  "test2_coulomb_exact"])
 def test_the_exact_gap_holds_at_every_node_and_step(gap_runs, name):
     """-gap exact: no contact node below psi(X + u, t), and no pressed one above it, beyond the stated tolerance
-    (1e-10 of the body's size), at any step: linear (the active set), Neo-Hookean (Newton), 2D and 3D."""
+    (1e-10 of the body's size), at any step: linear (the active set), Neo-Hookean (Newton), 2D and 3D, fixed and
+    moving foundations, with Coulomb's friction on Test 2's."""
     h = gap_runs[name]
     assert h["max_penetration_exact"].max() <= EXACT_TOL, h["max_penetration_exact"].max()
     assert h["max_held_off_exact"].max() <= EXACT_TOL, h["max_held_off_exact"].max()
