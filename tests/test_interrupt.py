@@ -25,6 +25,7 @@ TARGETS = {
     "make csm3": (["postprocess/csm3.py"], "summary.md"),
     "make stress": (["postprocess/stress.py", "--fast"], "summary.md"),
     "make bench": (["postprocess/bench.py"], "bench.md"),
+    "make sliding": (["postprocess/sliding.py"], "summary.md"),
     "make accuracy": (["postprocess/accuracy.py", "--methods-only"], "methods.md"),
 }
 
