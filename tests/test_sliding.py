@@ -29,6 +29,8 @@ RUNS = {
     "bump_linearised": ("bump", ["-solver", "activeset"] + QUIET),
     "bump_neohookean": ("bump", ["-T", "20", "-material", "neohookean", "-gap", "exact"] + QUIET),
     "wave_exact": ("wave", ["-T", "20", "-solver", "activeset", "-gap", "exact"] + QUIET),
+    "bowl_newmark": ("bowl", COARSE + ["-T", "20", "-scheme", "newmark"]),
+    "bowl_np2": ("bowl", COARSE + ["-T", "4", "-np", "2"]),
     "test2_coulomb_exact": ("test2", ["-T", "30", "-friction", "coulomb", "-friction_coefficient", "1", "-gap", "exact"] + QUIET),
 }
 
@@ -40,7 +42,7 @@ def gap_runs(tmp_path_factory):
 
 
 @pytest.mark.parametrize("name", ["bowl", "ball_bowl", "flat_exact", "bump_exact", "bump_neohookean", "wave_exact",
-                                  "test2_coulomb_exact"])
+                                  "test2_coulomb_exact", "bowl_newmark", "bowl_np2"])
 def test_the_exact_gap_holds_at_every_node_and_step(gap_runs, name):
     """-gap exact: no contact node below psi(X + u, t), and no pressed one above it, beyond the stated tolerance
     (1e-10 of the body's size), at any step: linear (the active set), Neo-Hookean (Newton), 2D and 3D, fixed and
@@ -79,6 +81,16 @@ def test_ipopt_imposes_the_exact_constraint_as_it_is(gap_runs):
     assert (a["active_nodes"] == b["active_nodes"][:n]).all()
     assert a["max_penetration_exact"].max() <= EXACT_TOL and a["max_held_off_exact"].max() <= 1e-9 * SIZE
     assert int(read_summary(gap_runs["dirs"]["bowl_ipopt"])["exact_gap_rounds"]) == 0
+
+
+def test_the_exact_gap_on_two_processes_is_the_serial_run(gap_runs):
+    """-np 2 (ffddm's solves with A to 1e-12): the bowl's first 10 steps equal the serial run's to the Krylov
+    tolerance, with the same pressed nodes and the same rounds."""
+    a, b = gap_runs["bowl_np2"], gap_runs["bowl"]
+    n = len(a["t"])
+    for column in ("v1_mean", "v2_mean", "u2_low"):
+        assert np.abs(a[column] - b[column][:n]).max() <= 1e-9, column
+    assert (a["active_nodes"] == b["active_nodes"][:n]).all()
 
 
 @pytest.mark.parametrize("name, inertia", [("bowl", 1.0), ("ball_bowl", 1.0)])
