@@ -91,7 +91,9 @@ def centre_x(h):
 
 def turning_times(h, window=10.0):
     """The turning points of the centre: the vertex of the least-squares parabola through x(t) on t +- window around
-    each sign change of v1_mean (changes closer than a window to the last one are the same turn, its chatter)."""
+    each sign change of v1_mean (changes closer than a window to the last one are the same turn, its chatter). A turn
+    made by an impact (the body in flight between them, as under (10) in the bowl: no node pressed at most steps of
+    the window) is the sign change itself, interpolated."""
     t, v, x = h["t"], h["v1_mean"], centre_x(h)
     turns = []
     for i in np.where(np.sign(v[1:]) * np.sign(v[:-1]) < 0)[0]:
@@ -99,6 +101,9 @@ def turning_times(h, window=10.0):
         if tc < window or tc > t[-1] - window or (turns and tc - turns[-1] < 2 * window):
             continue
         m = np.abs(t - tc) <= window
+        if np.mean(h["active_nodes"][m] > 0) < 0.5:
+            turns.append(tc - v[i] * (t[i + 1] - tc) / (v[i + 1] - v[i]))
+            continue
         c = np.polyfit(t[m] - tc, x[m], 2)
         turns.append(tc - c[1] / (2 * c[0]))
     return np.array(turns)

@@ -31,6 +31,8 @@ RUNS = {
     "wave_exact": ("wave", ["-T", "20", "-solver", "activeset", "-gap", "exact"] + QUIET),
     "bowl_newmark": ("bowl", COARSE + ["-T", "20", "-scheme", "newmark"]),
     "bowl_np2": ("bowl", COARSE + ["-T", "4", "-np", "2"]),
+    "test2_still_exact": ("test2", ["-T", "20", "-t0", "30", "-t1", "40", "-solver", "activeset", "-gap", "exact"] + QUIET),
+    "bowl_outside": ("bowl", COARSE + ["-T", "20", "-contact_label", "1", "-bowl_start", "75"]),
     "test2_coulomb_exact": ("test2", ["-T", "30", "-friction", "coulomb", "-friction_coefficient", "1", "-gap", "exact"] + QUIET),
 }
 
@@ -93,6 +95,21 @@ def test_the_exact_gap_on_two_processes_is_the_serial_run(gap_runs):
     assert (a["active_nodes"] == b["active_nodes"][:n]).all()
 
 
+def test_the_energy_guard_stays_on_where_the_true_foundation_has_not_risen(gap_runs):
+    """Prop. 2's guard (watch/guards.idp) is on while the foundation has not risen under u^n. Under -gap exact that is
+    psi at X + u^n, not (10)'s rows: Test 2 with its descent after T keeps the guard on (the checkpoint's 21st field)."""
+    header = open(os.path.join(gap_runs["dirs"]["test2_still_exact"], "checkpoint.txt")).readline().split()
+    assert header[20] == "1"
+
+
+def test_the_watch_outside_gamma_c_reads_the_true_foundation(gap_runs):
+    """With Gamma_C the disk's lower third, released at 75 degrees the disk meets the bowl outside it: the watch of the
+    other boundary nodes (max_penetration_outside) measures them against psi(X + u), where they are, not (10)'s
+    rows, and finds them 1 deep."""
+    h = gap_runs["bowl_outside"]
+    assert h["max_penetration_outside"].max() > 0.5
+
+
 @pytest.mark.parametrize("name, inertia", [("bowl", 1.0), ("ball_bowl", 1.0)])
 def test_the_frictionless_bowl_swings_with_the_pendulum_period(gap_runs, name, inertia):
     """Frictionless in the bowl (R_b = 60, the centre at 30 degrees), the body slides without turning and its centre
@@ -116,8 +133,9 @@ def test_the_closed_form_period():
     assert abs(sliding.pendulum_period(1.0) - 4 * 20 * 1.598142002) < 1e-6
 
 
-@pytest.mark.parametrize("extra", [[], ["-material", "neohookean", "-friction", "coulomb", "-friction_coefficient", "0.5"]],
-                         ids=["linear", "neohookean_coulomb"])
+@pytest.mark.parametrize("extra", [[], ["-material", "neohookean", "-friction", "coulomb", "-friction_coefficient", "0.5"],
+                                   ["-scheme", "newmark"]],
+                         ids=["linear", "neohookean_coulomb", "newmark"])
 def test_an_exact_gap_run_restarts_to_the_bit(tmp_path, extra):
     """A -gap exact run restarted at t = 10 gives the uninterrupted run's history.csv and checkpoint.txt byte for
     byte (the rows are linearised about u^n first, a function of the checkpoint's state): the linear body's rounds,
@@ -133,7 +151,7 @@ def test_an_exact_gap_run_restarts_to_the_bit(tmp_path, extra):
      "error: -gap exact with -contact nitsche is not supported: the exact gap is imposed as a constraint, with -contact "
      "constraint; nitsche's term acts on the gap of (10)"),
     (["-gap", "sideways"], "error: -gap must be linearised or exact; got 'sideways'"),
-    (["-foundation", "bowl", "-bowl_radius", "0"], "error: -bowl_radius must be > 0, got 0"),
+    (["-foundation", "bowl", "-bowl_radius", "20"], "error: -bowl_radius must be >= 30 (foundation.csv draws psi on [-30, 30]), got 20"),
 ])
 def test_gap_refusals(tmp_path, earlier_run, args, line):
     """Each refusal is one line, exit 3, and the earlier run's files stay as they were."""
