@@ -18,6 +18,7 @@ or in parallel, and stopped whole by Ctrl-C.
 """
 import argparse
 import concurrent.futures
+import faulthandler
 import glob
 import os
 import re
@@ -176,6 +177,8 @@ def _signal_groups(sig):
 
 
 def stop_on_interrupt(target, out, stale):
+    # SIGUSR1 prints every thread's stack on stderr (test_interrupt.py asks for it when a target starts no run)
+    faulthandler.register(signal.SIGUSR1, all_threads=True)
     for pattern in stale:
         for path in glob.glob(os.path.join(out, pattern)):
             os.remove(path)

@@ -25,7 +25,6 @@ TARGETS = {
     "make csm3": (["postprocess/csm3.py"], "summary.md"),
     "make stress": (["postprocess/stress.py", "--fast"], "summary.md"),
     "make bench": (["postprocess/bench.py"], "bench.md"),
-    "make sliding": (["postprocess/sliding.py"], "summary.md"),
     "make accuracy": (["postprocess/accuracy.py", "--methods-only"], "methods.md"),
 }
 
@@ -86,11 +85,22 @@ def wait_for_a_run(p, out, target):
         return
     status = p.poll()
     group = group_commands(p.pid)       # (what the target was doing instead)
+    # its runs, in sessions of their own (run.sh and what it started), with their states
+    runs = []
+    for pid in processes_of(out):
+        try:
+            state = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0]
+            cmd = open(f"/proc/{pid}/cmdline", "rb").read().replace(b"\0", b" ").decode(errors="replace")
+            runs.append(f"{pid} {state} {cmd.strip()[:200]}")
+        except (OSError, IndexError):
+            continue
     if status is None:
+        os.kill(p.pid, signal.SIGUSR1)  # (jobs.stop_on_interrupt: every thread's stack on stderr)
+        time.sleep(1)
         os.killpg(p.pid, signal.SIGKILL)
     _, err = p.communicate()
-    raise AssertionError(f"{target}: no run started within {START_SECONDS} s (status {status}; its processes: {group}): "
-                         f"{err[-2000:]}")
+    raise AssertionError(f"{target}: no run started within {START_SECONDS} s (status {status}; its processes: {group}; "
+                         f"processes working in its OUT: {runs}): {err[-4000:]}")
 
 
 @pytest.mark.parametrize("target", list(TARGETS))
