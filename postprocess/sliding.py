@@ -16,7 +16,7 @@ The paper's scenes: Test 1 and Test 2 (t1 = 18, 22, 26), under (10), with the la
 max_held_off_exact of their histories: how far (10) is from the true foundation there (solved by the active set,
 whose pressed nodes are exact: IPOPT at -tol leaves small multipliers on nodes above the foundation).
 --only runs the cases it names; the summary covers every case of OUT that has a history.
-Writes OUT/summary.md, OUT/sliding.csv and OUT/sliding.png/.pdf; each run in OUT/<case>/. A run that fails stops the
+Writes OUT/summary.md, OUT/sliding.csv and OUT/sliding.png/.pdf (the disk's and the ball's centres); each run in OUT/<case>/. A run that fails stops the
 study with one `error:` line and exit status 1.
 """
 import math
@@ -136,19 +136,24 @@ def energy_change(h):
 
 
 def figure(out, runs):
+    """The centre's X1 against the closed form's, -gap exact and linearised: the disk, and the ball where it ran."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), layout="constrained")
-    for ax, kind, c in ((axes[0], "frictionless", 1.0), (axes[1], "rolling", 1.5)):
-        h = runs[f"disk {kind} exact"]
-        t = h["t"]
-        ax.plot(t, (R_BOWL - R_BODY) * np.sin(pendulum_angle(t, c)), "k-", lw=1, label="closed form (rigid pendulum)")
-        ax.plot(t, centre_x(h), "-", label="-gap exact")
-        hl = runs[f"disk {kind} linearised"]
-        ax.plot(hl["t"], centre_x(hl), "--", label="-gap linearised (the paper's (10))")
-        ax.set(xlabel="t", ylabel="centre's X1", title=f"the disk in the bowl, {kind}")
-        ax.legend(fontsize=7)
+    bodies = [b for b in ("disk", "ball") if all(f"{b} {k} {g}" in runs for k in ("frictionless", "rolling")
+                                                  for g in ("exact", "linearised"))]
+    fig, axes = plt.subplots(len(bodies), 2, figsize=(9, 3.4 * len(bodies)), layout="constrained", squeeze=False)
+    for row, body in zip(axes, bodies):
+        for ax, kind in zip(row, ("frictionless", "rolling")):
+            c = 1.0 if kind == "frictionless" else (1.5 if body == "disk" else 1.4)
+            h = runs[f"{body} {kind} exact"]
+            t = h["t"]
+            ax.plot(t, (R_BOWL - R_BODY) * np.sin(pendulum_angle(t, c)), "k-", lw=1, label="closed form (rigid pendulum)")
+            ax.plot(t, centre_x(h), "-", label="-gap exact")
+            hl = runs[f"{body} {kind} linearised"]
+            ax.plot(hl["t"], centre_x(hl), "--", label="-gap linearised (the paper's (10))")
+            ax.set(xlabel="t", ylabel="centre's X1", title=f"the {body} in the bowl, {kind}")
+            ax.legend(fontsize=7)
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(out, f"sliding.{ext}"), dpi=110)
 
