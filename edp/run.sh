@@ -7,7 +7,7 @@
 #   replaced only with FORCE=1 (or by its own restart); FreeFEM checks everything in OUT/.staging, then
 #   edp/lib/io/commit.sh moves its first files into OUT.
 # Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug), 2 usage, 3 refused before the
-#   first step, 4 a step failed, 5 factorisation, 7 a write failed; 128 + N after signal N (SIGTERM, SIGINT,
+#   first step, 4 a step failed, 5 factorisation, 7 a write failed, 8 out of memory; 128 + N after signal N (SIGTERM, SIGINT,
 #   SIGHUP: run.sh stops FreeFEM first, then dies of the signal; one sent to FreeFEM itself is named).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -326,6 +326,12 @@ if [ -n "$signal_name" ] && [ -e "$stage/.committed" ] && [ -s "$out/summary.txt
   echo "note: FreeFEM was killed by $signal_name after the run reached T; the run is complete (its closing warning: lines, if any, may be missing)"
   rc=0
 fi
+# a per-process memory limit (ulimit -d or -v, prlimit --data or --as), for the out-of-memory line below
+memory_limit=""
+for flag in d v; do
+  kib=$(ulimit -$flag 2>/dev/null)
+  case "$kib" in '' | unlimited) ;; *) memory_limit="${memory_limit:+$memory_limit, }$((kib / 1024)) MiB (ulimit -$flag)" ;; esac
+done
 case "$rc" in
   0 | 3 | 4 | 5 | 7) exit_status=$rc ;;
   *) if [ -n "$signal_name" ]; then
@@ -337,6 +343,18 @@ case "$rc" in
        [ "$rc" = 1 ] && exit_status=143
      elif [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
        exit_status=$filter
+     elif grep -qiE "out of memory|bad_alloc|cannot allocate memory" "$errfile" 2>/dev/null ||
+          { [ -n "$memory_limit" ] && { [ "$rc" = 139 ] || [ "$rc" = 134 ] || [ "$given" = crash ]; }; }; then
+       # out of memory: CHOLMOD or FreeFEM said so, or FreeFEM crashed (SIGSEGV, SIGABRT: a failed allocation it did not
+       # check; its buffered output is lost) under a per-process memory limit
+       if grep -qiE "out of memory|bad_alloc|cannot allocate memory" "$errfile" 2>/dev/null; then
+         why="FreeFEM ran out of memory ($(head -c 160 "$errfile"))"
+       else why="FreeFEM crashed (exit $rc) under a per-process memory limit of $memory_limit: it most likely ran out of memory"; fi
+       where="before the run started; $out_arg is unchanged"
+       [ -e "$stage/.committed" ] && where="history.csv keeps every complete step and checkpoint.txt the last checkpoint"
+       echo "error: $why; the body needs more memory a process than the limit or the machine gives: -np N holds only" \
+            "each process's part of its matrices (docs/parallel.md); $where" >&2
+       exit_status=8
      else
        detail=$(head -c 300 "$errfile")
        echo "error: FreeFEM stopped with an unexpected error (exit $rc${detail:+: $detail}); if the scene is your own, check it," \
@@ -353,6 +371,6 @@ if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summ
        "your own, check that it does not call exit()" >&2
   exit_status=1
 fi
-case "$exit_status" in 7 | 129 | 130 | 137 | 143) keep_complete_rows ;; esac
+case "$exit_status" in 7 | 8 | 129 | 130 | 137 | 143) keep_complete_rows ;; esac
 settle_kept "$exit_status"
 exit "$exit_status"

@@ -613,7 +613,9 @@ def gap_section(out_base, repeat):
 # PARALLEL_T (50 steps on the small meshes, where 10 would be lost in the start-up's noise; 10 on the large ones),
 # on 1, 2 and 4 processes beside the serial direct solver
 PARALLEL_MESHES = BALL_MESHES + [("ball_refine6", "meshes/ball_refine6.msh")]
-PARALLEL_NP = {"ball": [1, 2, 4], "ball_medium": [1, 2, 4], "ball_refine4": [1, 2, 4], "ball_refine6": [2]}
+PARALLEL_NP = {"ball": [1, 2, 4], "ball_medium": [1, 2, 4], "ball_refine4": [1, 2, 4], "ball_refine6": [2, 4]}
+# issue 37's aims: on ball_refine6, peak memory per process at most these fractions of the serial run's
+MEMORY_AIMS = {2: 0.6, 4: 0.35}
 PARALLEL_T = {"ball": "2.5", "ball_medium": "2.5", "ball_refine4": "0.5", "ball_refine6": "0.5"}
 
 
@@ -668,8 +670,43 @@ def parallel_section(out_base, repeat, only=None):
                      + (", ".join(faster) if faster else "none of " + ", ".join(on_n))
                      + "; memory per process " + ", ".join(f"{m} {table[(m, n)]['memory'] / table[(m, 0)]['memory']:.2f}x"
                                                            for m in on_n) + " the serial run's")
+    lines += memory_lines(table, meshes)
     plot_parallel(table, os.path.join(out_base, "parallel.png"))
     return rows, "\n".join(lines + [""] + strategy_lines(only))
+
+
+def memory_fit(ns, mib):
+    """m(N) = R + F / N^beta through the peaks mib on ns processes (least squares in R and F for each beta on a
+    grid): (R, F, beta)."""
+    best = None
+    for beta in np.linspace(0.3, 2.0, 171):
+        basis = np.vstack([np.ones(len(ns)), np.asarray(ns, float) ** -beta]).T
+        coef, *_ = np.linalg.lstsq(basis, np.asarray(mib, float), rcond=None)
+        err = np.sum((basis @ coef - mib) ** 2)
+        if best is None or err < best[0]:
+            best = (err, coef[0], coef[1], beta)
+    return best[1], best[2], best[3]
+
+
+def memory_lines(table, meshes):
+    """Peak memory per process against N: the aims on ball_refine6 (MEMORY_AIMS) and, for each mesh run on three
+    or more N, m(N) = R + F / N^beta fitted to its values, with the projection to 64 processes."""
+    lines = ["", "Peak memory per process against N (issue 37's aims: on ball_refine6 at most "
+             + ", ".join(f"{f}x the serial run's on {n}" for n, f in MEMORY_AIMS.items()) + "):", ""]
+    for mesh, _ in meshes:
+        ns = [n for n in PARALLEL_NP[mesh] if (mesh, n) in table]
+        if mesh == "ball_refine6":
+            for n in ns:
+                if n in MEMORY_AIMS:
+                    f = table[(mesh, n)]["memory"] / table[(mesh, 0)]["memory"]
+                    lines.append(f"- {mesh}, {n} processes: {f:.2f}x the serial peak; the aim, {MEMORY_AIMS[n]}x, "
+                                 + ("holds" if f <= MEMORY_AIMS[n] else "does not hold"))
+        if len(ns) >= 3:
+            R, F, beta = memory_fit(ns, [table[(mesh, n)]["memory"] for n in ns])
+            lines.append(f"- {mesh}: m(N) = {R:.0f} + {F:.0f} / N^{beta:.2f} MiB fitted on N = {ns} "
+                         f"({R * 1024 / table[(mesh, ns[0])]['vertices']:.1f} KiB a vertex held whole); "
+                         f"on 64 processes {R + F / 64 ** beta:.0f} MiB a process")
+    return lines
 
 
 STRATEGY_MESHES = [("ball", "meshes/ball.msh"), ("ball_medium", "meshes/ball_medium.msh")]

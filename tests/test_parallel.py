@@ -6,6 +6,7 @@ paths of any characters, make's NP, and every refusal and failure path (one line
 process left waiting)."""
 import os
 import re
+import resource
 import shutil
 import signal
 import subprocess
@@ -303,12 +304,16 @@ def test_make_targets_use_np_and_jobs_or_say_why_not(tmp_path):
     assert p.returncode == 0 and "note:" not in p.stdout
 
 
-def run_group(scene, out, args, env, limit=120):
+def run_group(scene, out, args, env, limit=120, data_limit=None):
     """edp/run.sh in a process group of its own, killed whole if it outlives `limit` seconds (a run left waiting
-    in MPI must not outlive its test): (CompletedProcess-like result, seconds taken)."""
+    in MPI must not outlive its test): (CompletedProcess-like result, seconds taken). data_limit: bytes, each
+    process's RLIMIT_DATA (what `prlimit --data` and `ulimit -d` set)."""
+    def limited():
+        if data_limit:
+            resource.setrlimit(resource.RLIMIT_DATA, (data_limit, data_limit))
     start = time.monotonic()
     p = subprocess.Popen([RUN, scene, str(out)] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=dict(os.environ, FORCE="1", **env), start_new_session=True)
+                         env=dict(os.environ, FORCE="1", **env), start_new_session=True, preexec_fn=limited)
     try:
         stdout, stderr = p.communicate(timeout=limit)
     except subprocess.TimeoutExpired:
@@ -341,3 +346,22 @@ def test_a_process_that_crashes_alone_stops_the_run(tmp_path):
     assert p.returncode == 1 and len(error_lines(p)) == 1, p.stderr
     assert "FreeFEM stopped with an unexpected error" in p.stderr and "process 1" in p.stderr
     assert seconds < 60
+
+
+@pytest.mark.parametrize("n", [0, 2], ids=["serial", "np2"])
+def test_a_run_out_of_memory_under_a_limit_is_one_line(tmp_path, n):
+    """A process that cannot allocate under a per-process memory limit (RLIMIT_DATA of 1 GiB: a test hook allocates
+    2 GiB at step 3; FreeFEM then stops by SIGSEGV, its buffered output lost) ends the run with exit 8 and one line
+    naming the limit and -np, within seconds on N processes too; history.csv keeps the steps before it."""
+    out = tmp_path / "out"
+    extra = ["-np", str(n)] if n else []
+    p, seconds = run_group("ball", out, ["-T", "1", "-solver", "activeset", "-snapshots", "none"] + QUIET + extra,
+                           {"CONTACT_TEST_MEMORY_STEP": "3"}, data_limit=1 << 30)
+    assert p.returncode == 8 and error_lines(p) == [
+        "error: FreeFEM crashed (exit 139) under a per-process memory limit of 1024 MiB (ulimit -d): it most likely ran "
+        "out of memory; the body needs more memory a process than the limit or the machine gives: -np N holds only each "
+        "process's part of its matrices (docs/parallel.md); history.csv keeps every complete step and checkpoint.txt the "
+        "last checkpoint"], p.stderr
+    assert seconds < 60
+    assert [int(r) for r in read_run(out)["step"]] == [0, 1, 2]
+    assert not (out / "summary.txt").exists()

@@ -11,7 +11,7 @@
 # unexpected error is written there).
 
 # trace: FreeFEM's error traces, and mpirun's report of a process that died (any process's stops a -np run)
-BEGIN { trace = "Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code" }
+BEGIN { trace = "Exec error|Assertion fail|Segmentation fault|Aborted|Killed|Out of bound|Error line number|err code|out of memory|bad_alloc" }
 function newline() { if (pending) { printf "\n"; pending = 0 } }
 function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfile ".stop"); stopped = 1 } }
 tagged { rank = -1
