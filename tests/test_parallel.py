@@ -43,14 +43,14 @@ GROUPS = [("displacement", r"u\d_(low|mean)$", True), ("velocity", r"v\d_(low|me
 EXACT = ["qp_solved", "active_nodes", "newton_iterations", "solver_status"]
 # Tolerances of the parallel runs against the serial ones. GMRES stops at a relative residual of 1e-13, and A,
 # dominated by its mass term, is well conditioned, so a solve is within about 1e-12 of the direct one; the impacts
-# amplify that, as they amplify round-off. Measured on these runs (the largest over them): displacement 1.9e-10,
-# velocity 4.0e-8, energy 2.7e-11, contact 3.3e-8, angular momentum 1.8e-7 (test1; 5.0e-8 on the balls), strain
-# 3.2e-10. The tolerances are 25 to 55 times those.
+# amplify that, as they amplify round-off. Measured on these runs (the largest over them, each process holding its
+# part of the matrices, 2026-11-27): displacement 6.2e-10, velocity 1.4e-7 (ball_moving), energy 4.7e-11, contact
+# 1.1e-7, angular momentum 6.0e-7 (test1; 2.1e-8 on the balls), strain 1.0e-9. The tolerances are 7 to 21 times those.
 TOL = {"displacement": 1e-8, "velocity": 1e-6, "energy": 1e-9, "contact": 1e-6, "angular momentum": 1e-5, "strain": 1e-8}
 # The lumped mass: its run amplifies round-off about 100 times more over the first impact than the consistent mass's
 # (-np 1, one subdomain solved directly, no Krylov tolerance involved, differs from the serial run by 2.2e-6 in the
 # angular momentum and 5.7e-7 in the contact force; with GMRES to 1e-14 on 2 processes the history is the same to
-# the bit). Measured on 2 processes: 5.1e-10, 1.2e-7, 6.0e-10, 1.0e-6, 3.9e-6, 6.5e-9 (docs/parallel.md).
+# the bit, at 1e-12). Measured on 2 processes: 4.5e-11, 1.1e-8, 1.1e-10, 1.8e-7, 7.4e-7, 1.2e-9 (docs/parallel.md).
 TOL_LUMPED = {"displacement": 1e-8, "velocity": 1e-5, "energy": 1e-8, "contact": 1e-4, "angular momentum": 1e-4,
               "strain": 1e-7}
 
