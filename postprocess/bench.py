@@ -665,6 +665,8 @@ def parallel_section(out_base, repeat, only=None):
     lines.append("")
     for n in (1, 2, 4):
         on_n = [m for m, _ in meshes if n in PARALLEL_NP[m]]
+        if not on_n:
+            continue
         faster = [m for m in on_n if table[(m, n)]["ms"] < table[(m, 0)]["ms"]]
         lines.append(f"- {n} process{'es' if n > 1 else ''}: faster than the serial direct solver per step on "
                      + (", ".join(faster) if faster else "none of " + ", ".join(on_n))
