@@ -332,6 +332,8 @@ for flag in d v; do
   kib=$(ulimit -$flag 2>/dev/null)
   case "$kib" in '' | unlimited) ;; *) memory_limit="${memory_limit:+$memory_limit, }$((kib / 1024)) MiB (ulimit -$flag)" ;; esac
 done
+memory_said=""      # (FreeFEM's or CHOLMOD's own words)
+grep -qiE "out of memory|bad_alloc|cannot allocate memory" "$errfile" 2>/dev/null && memory_said=$(head -c 160 "$errfile")
 case "$rc" in
   0 | 3 | 4 | 5 | 7) exit_status=$rc ;;
   *) if [ -n "$signal_name" ]; then
@@ -343,12 +345,11 @@ case "$rc" in
        [ "$rc" = 1 ] && exit_status=143
      elif [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
        exit_status=$filter
-     elif grep -qiE "out of memory|bad_alloc|cannot allocate memory" "$errfile" 2>/dev/null ||
+     elif [ -n "$memory_said" ] ||
           { [ -n "$memory_limit" ] && { [ "$rc" = 139 ] || [ "$rc" = 134 ] || [ "$given" = crash ]; }; }; then
        # out of memory: CHOLMOD or FreeFEM said so, or FreeFEM crashed (SIGSEGV, SIGABRT: a failed allocation it did not
        # check; its buffered output is lost) under a per-process memory limit
-       if grep -qiE "out of memory|bad_alloc|cannot allocate memory" "$errfile" 2>/dev/null; then
-         why="FreeFEM ran out of memory ($(head -c 160 "$errfile"))"
+       if [ -n "$memory_said" ]; then why="FreeFEM ran out of memory ($memory_said)"
        else why="FreeFEM crashed (exit $rc) under a per-process memory limit of $memory_limit: it most likely ran out of memory"; fi
        where="before the run started; $out_arg is unchanged"
        [ -e "$stage/.committed" ] && where="history.csv keeps every complete step and checkpoint.txt the last checkpoint"
