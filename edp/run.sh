@@ -345,6 +345,8 @@ case "$rc" in
        [ "$rc" = 1 ] && exit_status=143
      elif [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
        exit_status=$filter
+     elif [ "$rc" = 8 ] && [ ! -s "$errfile" ]; then
+       exit_status=8      # (the driver's own: A's Cholesky factor refused under the limit, solve/direct.idp; its line is said)
      elif [ -n "$memory_said" ] ||
           { [ -n "$memory_limit" ] && { [ "$rc" = 139 ] || [ "$rc" = 134 ] || [ "$given" = crash ]; }; }; then
        # out of memory: CHOLMOD or FreeFEM said so, or FreeFEM crashed (SIGSEGV, SIGABRT: a failed allocation it did not

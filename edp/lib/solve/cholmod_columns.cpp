@@ -6,7 +6,9 @@
 // a step with contact costs one forward and one backward solve, the cost of one solve (contact/active_set_factor.idp).
 //
 //   int h = cholmodFactor(A, ordering, kind)  ordering: default (CHOLMOD's own choice, FreeFEM's), amd, metis,
-//                                             nesdis; kind: auto, supernodal, simplicial. -1: A not positive definite
+//                                             nesdis; kind: auto, supernodal, simplicial. -1: A not positive definite;
+//                                             -2: L does not fit in what this process's memory limit leaves
+//   real m = cholmodRefusedMiB(0)             then: the MiB L needs (0), the MiB the limit left (1)
 //   cholmodSolve(h, x, b)                     x = A^-1 b
 //   cholmodForward(h, y, b)                   y = L^-1 P b
 //   cholmodBackward(h, x, y)                  x = P' L^-T D^-1 y
@@ -22,6 +24,9 @@
 #include <cholmod.h>
 #include <vector>
 #include <chrono>
+#include <fstream>
+#include <cstring>
+#include <sys/resource.h>
 
 namespace {
 struct ColumnFactor {
@@ -46,6 +51,30 @@ cholmod_dense view(double *p, long n, long ncol = 1) {
   d.xtype = CHOLMOD_REAL;  d.dtype = CHOLMOD_DOUBLE;
   return d;
 }
+
+// a field of /proc/self/status, in KiB (0 if absent)
+double statusKiB(const char *key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  size_t n = strlen(key);
+  while (std::getline(status, line))
+    if (line.compare(0, n, key) == 0) return atof(line.c_str( ) + n);
+  return 0;
+}
+// the MiB this process may still allocate under its limits (ulimit -d: RLIMIT_DATA against VmData; ulimit -v:
+// RLIMIT_AS against VmSize), -1 without a limit
+double memoryLeftMiB( ) {
+  double left = -1;
+  struct rlimit r;
+  if (getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    left = (r.rlim_cur / 1024. - statusKiB("VmData:")) / 1024.;
+  if (getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY) {
+    double l = (r.rlim_cur / 1024. - statusKiB("VmSize:")) / 1024.;
+    left = (left < 0 ? l : std::min(left, l));
+  }
+  return left;
+}
+double refusedMiB[2] = {0, 0};      // the last refusal's: what L needed, what the limit left
 
 KN< double > &contiguous(KN< double > *a, long n, const char *what) {
   if (a->N( ) != n) ExecError(std::string("cholmod_columns: ") + what + " has the wrong size");
@@ -99,8 +128,19 @@ long factorise(Matrice_Creuse< double > *const &pA, string *const &ordering, str
   f->n = H->n;
   f->L = cholmod_analyze(&A, &f->c);
   if (!f->L) ExecError("cholmod_columns: the analysis of A failed");
-  cholmod_factorize(&A, f->L, &f->c);
+  // refused before the numeric factorisation when L alone (its values and row indices, as the analysis counts them)
+  // does not fit in what the memory limit leaves: a process that would fail inside CHOLMOD or BLAS says so instead
+  double need = (f->L->is_super ? f->L->xsize * 8. + f->L->ssize * 4. : f->c.lnz * 12.) / 1048576., left = memoryLeftMiB( );
+  bool fits = (left < 0 || need <= left);
+  if (fits) cholmod_factorize(&A, f->L, &f->c);
   if (!H->half) { delete[] Ap;  delete[] Ai;  delete[] Ax; }    // (CSC_U made copies)
+  if (!fits) {
+    refusedMiB[0] = need;  refusedMiB[1] = left;
+    cholmod_free_factor(&f->L, &f->c);
+    cholmod_finish(&f->c);
+    delete f;
+    return -2;
+  }
   if (f->c.status != CHOLMOD_OK || f->L->minor < (size_t)f->n) {
     cholmod_free_factor(&f->L, &f->c);
     cholmod_finish(&f->c);
@@ -234,6 +274,7 @@ long columnGram(const long &h, KN< long > *const &rows, const long &col, KN< dou
 
 double columnEntries(const long &h) { return factorOf(h)->entries; }
 double factorEntries(const long &h) { cholmod_factor *L = factorOf(h)->L;  return L->is_super ? (double)L->xsize : (double)L->nzmax; }
+double refusedMiBOf(const long &which) { return refusedMiB[which == 0 ? 0 : 1]; }
 double wallSeconds( ) { return std::chrono::duration< double >(std::chrono::steady_clock::now( ).time_since_epoch( )).count( ); }
 }    // namespace
 
@@ -251,6 +292,7 @@ static void Load_Init( ) {
              new OneOperator4_< long, long, KN< long > *, long, KN< double > * >(columnGram));
   Global.Add("cholmodColumnEntries", "(", new OneOperator1_< double, long >(columnEntries));
   Global.Add("cholmodFactorEntries", "(", new OneOperator1_< double, long >(factorEntries));
+  Global.Add("cholmodRefusedMiB", "(", new OneOperator1_< double, long >(refusedMiBOf));
   Global.Add("wallSeconds", "(", new OneOperator0< double >(wallSeconds));
 }
 
