@@ -86,11 +86,11 @@ deps-packages:
 	[ -f /usr/include/suitesparse/cholmod.h ] || missing="$$missing libsuitesparse-dev"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
 plugins: $(PLUGIN)
-$(PLUGIN): edp/lib/solve/cholmod_columns.cpp | deps-packages
+$(PLUGIN): edp/lib/solve/cholmod_columns.cpp edp/lib/solve/memory_left.hpp edp/lib/solve/cholmod_arrays.hpp | deps-packages
 	@mkdir -p build/plugins
 	@echo "building $@ (ff-c++) ..."
-	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp . && \
-	  if ff-c++ cholmod_columns.cpp -lcholmod > build.log 2>&1; then rm -f cholmod_columns.cpp cholmod_columns.o; \
+	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp ../../edp/lib/solve/*.hpp . && \
+	  if ff-c++ cholmod_columns.cpp -lcholmod > build.log 2>&1; then rm -f cholmod_columns.cpp *.hpp cholmod_columns.o; \
 	  else grep -i -m 5 "error" build.log; echo "$@: ff-c++ failed (build/plugins/build.log)"; rm -f cholmod_columns.so; exit 1; fi
 deps-plot: deps-run
 	$(call install_missing, \

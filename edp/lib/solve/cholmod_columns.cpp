@@ -24,9 +24,7 @@
 #include <cholmod.h>
 #include <vector>
 #include <chrono>
-#include <fstream>
-#include <cstring>
-#include <sys/resource.h>
+#include "memory_left.hpp"
 
 namespace {
 struct ColumnFactor {
@@ -44,49 +42,8 @@ ColumnFactor *factorOf(long h) {
   return factors[h];
 }
 
-// a dense view of a contiguous FreeFEM array (no copy)
-cholmod_dense view(double *p, long n, long ncol = 1) {
-  cholmod_dense d;
-  d.nrow = n;  d.ncol = ncol;  d.nzmax = n * ncol;  d.d = n;  d.x = p;  d.z = nullptr;
-  d.xtype = CHOLMOD_REAL;  d.dtype = CHOLMOD_DOUBLE;
-  return d;
-}
-
-// a field of /proc/self/status, in KiB (0 if absent)
-double statusKiB(const char *key) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  size_t n = strlen(key);
-  while (std::getline(status, line))
-    if (line.compare(0, n, key) == 0) return atof(line.c_str( ) + n);
-  return 0;
-}
-// the MiB this process may still allocate under its limits (ulimit -d: RLIMIT_DATA against VmData; ulimit -v:
-// RLIMIT_AS against VmSize), -1 without a limit
-double memoryLeftMiB( ) {
-  double left = -1;
-  struct rlimit r;
-  if (getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
-    left = (r.rlim_cur / 1024. - statusKiB("VmData:")) / 1024.;
-  if (getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY) {
-    double l = (r.rlim_cur / 1024. - statusKiB("VmSize:")) / 1024.;
-    left = (left < 0 ? l : std::min(left, l));
-  }
-  return left;
-}
+#include "cholmod_arrays.hpp"    // view, contiguous, output
 double refusedMiB[2] = {0, 0};      // the last refusal's: what L needed, what the limit left
-
-KN< double > &contiguous(KN< double > *a, long n, const char *what) {
-  if (a->N( ) != n) ExecError(std::string("cholmod_columns: ") + what + " has the wrong size");
-  if (a->step != 1) ExecError(std::string("cholmod_columns: ") + what + " is not contiguous");
-  return *a;
-}
-
-// an output array: sized n if it is not
-KN< double > &output(KN< double > *a, long n, const char *what) {
-  if (a->N( ) != n) a->resize(n);
-  return contiguous(a, n, what);
-}
 
 // x = op(b) for one CHOLMOD system, into x (b and x may not overlap)
 void solveInto(ColumnFactor *f, int sys, double *x, double *b, long ncol = 1) {
@@ -133,19 +90,13 @@ long factorise(Matrice_Creuse< double > *const &pA, string *const &ordering, str
   double need = (f->L->is_super ? f->L->xsize * 8. + f->L->ssize * 4. : f->c.lnz * 12.) / 1048576., left = memoryLeftMiB( );
   bool fits = (left < 0 || need <= left);
   if (fits) cholmod_factorize(&A, f->L, &f->c);
+  else refusedMiB[0] = need, refusedMiB[1] = left;
   if (!H->half) { delete[] Ap;  delete[] Ai;  delete[] Ax; }    // (CSC_U made copies)
-  if (!fits) {
-    refusedMiB[0] = need;  refusedMiB[1] = left;
+  if (!fits || f->c.status != CHOLMOD_OK || f->L->minor < (size_t)f->n) {
     cholmod_free_factor(&f->L, &f->c);
     cholmod_finish(&f->c);
     delete f;
-    return -2;
-  }
-  if (f->c.status != CHOLMOD_OK || f->L->minor < (size_t)f->n) {
-    cholmod_free_factor(&f->L, &f->c);
-    cholmod_finish(&f->c);
-    delete f;
-    return -1;
+    return fits ? -1 : -2;
   }
   // (FreeFEM's own settings otherwise: its solves and these are the same to the last bit)
   f->scatter.assign(f->n, 0.);
