@@ -374,15 +374,19 @@ def test_a_run_out_of_memory_under_a_limit_is_one_line(tmp_path, n):
 # Issue 37, item 6: ball_refine4 (27,329 vertices) under one cap a process. Measured (2026-11-27, VmData, what
 # RLIMIT_DATA bounds): serially 442 MiB before the factorisation, whose L alone needs 678 MiB more; on 4 processes
 # the run reaches T under 700 MiB and not under 600 (each process's VmData includes Open MPI's and the allocator's
-# reserved address space, well above its resident peak of 544 MiB).
+# reserved address space, well above its resident peak of 544 MiB). OpenBLAS, where it is the BLAS, reserves a buffer
+# for each of its threads in each process, counted by RLIMIT_DATA too: with its default threads the 4 processes did not
+# fit under 800 MiB, with one thread each they do (2026-11-27), so both runs take OPENBLAS_NUM_THREADS=1.
 CAP_MIB = 800
+ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1"}
 
 
 def test_a_body_refused_serially_under_a_memory_cap_runs_on_4_processes(tmp_path, earlier_ball):
     """The distribution is real (docs/parallel.md): under a cap of 800 MiB a process (RLIMIT_DATA), the serial run
     of ball_refine4 is refused before its first step (the Cholesky factor of A of (4) does not fit what the cap
     leaves: exit 8, one line naming both sizes and -np; the earlier run in OUT byte-identical), and the same run on 4
-    processes, each holding its part of the mesh, matrices and quadrature points, reaches T under the same cap. Its
+    processes, each holding its part of the matrices and quadrature points, reaches T under the same cap (one
+    OpenBLAS thread a process in both, whose buffers would otherwise count against the cap). Its
     step is the exact free fall of the mid-point scheme (1)-(2) (u3 = 4 - g dt^2 / 2, v3 = -g dt, g = 0.1), with
     E - F'u conserved."""
     mesh = make(["meshes/ball_refine4.msh"])
@@ -391,13 +395,13 @@ def test_a_body_refused_serially_under_a_memory_cap_runs_on_4_processes(tmp_path
     out = tmp_path / "copy"
     shutil.copytree(earlier_ball, out)
     before = files_of(out)
-    p, _ = run_group("ball", out, args, {}, limit=300, data_limit=CAP_MIB << 20)
+    p, _ = run_group("ball", out, args, ONE_BLAS_THREAD, limit=300, data_limit=CAP_MIB << 20)
     assert p.returncode == 8 and len(error_lines(p)) == 1, p.stderr
     assert re.fullmatch(r"error: the Cholesky factor of A needs \d+ MiB, and this process's memory limit leaves \d+ MiB: "
                         r"run it on N processes \(-np N\), each of which holds only its part of the body "
                         r"\(docs/parallel\.md\), or raise the limit", error_lines(p)[0]), p.stderr
     assert files_of(out) == before
-    p, _ = run_group("ball", tmp_path / "np4", args + ["-np", "4"], {}, limit=600, data_limit=CAP_MIB << 20)
+    p, _ = run_group("ball", tmp_path / "np4", args + ["-np", "4"], ONE_BLAS_THREAD, limit=600, data_limit=CAP_MIB << 20)
     assert p.returncode == 0, p.stderr
     h = read_run(tmp_path / "np4")
     assert int(read_summary(tmp_path / "np4")["processes"]) == 4 and list(h["step"]) == [0, 1]
