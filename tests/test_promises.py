@@ -236,7 +236,11 @@ def test_a_ball_squashed_through_the_foundation_stops_whatever_the_step(tmp_path
     assert h["t"][-1] == 2.25 and 20 + h["u3_mean"][-1] > 3.9    # the centre of mass still 3.99 above the floor
     fine = tmp_path / "v10_dt"
     q = run_scene("ball", fine, ["-T", "4", "-dt", "0.0125", "-solver", "activeset", "-v0z", "-10"] + QUIET, check=False)
-    g, _ = assert_through(q, fine, 40, SQUASHED)
+    g, fine_line = assert_through(q, fine, 40, "), and the body is squashed past it")
+    # At the finer step Gamma_C presses nearly whole, 129 to 133 of its 133 vertices from step to step (a rim
+    # vertex comes and goes): the same code stops at step 179 with 133 under reference BLAS, 178 with 132 under OpenBLAS.
+    pressed = int(fine_line.split("Gamma_C presses on the foundation (")[1].split(" of its 133 vertices")[0])
+    assert pressed >= 0.95 * 133, fine_line
     assert abs(g["t"][-1] - h["t"][-1]) <= 0.1, g["t"][-1]
     fast = tmp_path / "v100"
     r = run_scene("ball", fast, ["-T", "1", "-solver", "activeset", "-v0z", "-100"] + QUIET, check=False)
