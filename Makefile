@@ -60,6 +60,8 @@ paper: test1 test2 figures $(FIGURES)/bounce.gif
 # ---- dependencies (Debian packages; see ../shared/notes/freefem-on-debian.md), in
 # three sets: running (deps-run), plotting (deps-plot), testing (deps-test).
 # Installed with apt-get as root; otherwise the command is printed and make stops.
+# The BLAS is OpenBLAS (pthreads), which Debian then selects for CHOLMOD: every time in docs/ was measured with
+# it, and the reference BLAS (libblas3, which FreeFEM alone pulls in) is several times slower and rounds otherwise.
 define install_missing
 	@missing=""; $(1) \
 	if [ -n "$$missing" ]; then \
@@ -84,6 +86,7 @@ deps-packages:
 	command -v flock >/dev/null || missing="$$missing util-linux"; \
 	command -v g++ >/dev/null || missing="$$missing g++"; \
 	[ -f /usr/include/suitesparse/cholmod.h ] || missing="$$missing libsuitesparse-dev"; \
+	ls /usr/lib/*/openblas-pthread/libblas.so.3 >/dev/null 2>&1 || missing="$$missing libopenblas0-pthread"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
 plugins: $(PLUGIN)
 $(PLUGIN): edp/lib/solve/cholmod_columns.cpp edp/lib/solve/memory_left.hpp edp/lib/solve/cholmod_arrays.hpp | deps-packages

@@ -19,9 +19,9 @@ renamed when complete, so a failure leaves no half file. On stdout, a line `anim
 only `note:` and `error:` lines.
 
 Exit status: 0 written; 2 bad usage (an option out of its range: --fps 1 to 50, --dpi 10 to 300, --vmax
-positive and finite; an empty path); 3 bad input (no run.pvd, a listed .vtu missing or unreadable, fewer
-than 2 frames, a 3D body that the plane X2 = 0 misses, an --out that is not a .gif, frames of more than
-500 million pixels in all); 7 a file could not be written.
+positive and finite; an empty path); 3 bad input (no run.pvd, a listed .vtu, or a -np N run's .pvtu or one
+of its pieces, missing or unreadable, fewer than 2 frames, a 3D body that the plane X2 = 0 misses, an --out
+that is not a .gif, frames of more than 500 million pixels in all); 7 a file could not be written.
 """
 import argparse
 import math
@@ -76,13 +76,53 @@ def series(run_dir):
     return [(t, parts["0"], parts.get("1")) for t, parts in sorted(by_time.items())]
 
 
-def read_vtu(path):
+def read_vtu(path, listed_by="run.pvd"):
+    """A .vtu, or a -np N run's .pvtu (its pieces merged: read_pvtu)."""
     if not os.path.isfile(path):
-        raise Refused(BAD_INPUT, f"run.pvd lists {os.path.basename(path)}, which is missing from {os.path.dirname(path)}")
+        raise Refused(BAD_INPUT, f"{listed_by} lists {os.path.basename(path)}, which is missing from {os.path.dirname(path)}")
+    if path.endswith(".pvtu"):
+        return read_pvtu(path)
     try:
         return meshio.vtu.read(path)   # not meshio.read, which prints and exits on a damaged file
     except Exception as err:  # meshio raises many kinds on a damaged file
         raise Refused(BAD_INPUT, f"cannot read {path}: {str(err) or 'not a complete .vtu'}")
+
+
+def read_pvtu(path):
+    """The body of a .pvtu (-np N, docs/parallel.md): its pieces, one a process, merged into one mesh. Every cell is
+    in one piece; a vertex on the border of two is in both with the same values (merged by its coordinates). The
+    faces between two pieces are a boundary face of each, so a boundary cell (a line in 2D, a triangle in 3D) that
+    two pieces hold is dropped: what is left is the body's boundary, as in a serial run's .vtu."""
+    try:
+        sources = [e.get("Source") for e in ET.parse(path).getroot().iter("Piece")]
+    except ET.ParseError as err:
+        raise Refused(BAD_INPUT, f"{path} is not a readable .pvtu ({err})")
+    if not sources or None in sources:
+        raise Refused(BAD_INPUT, f"{path} names no piece")
+    pieces = [read_vtu(os.path.join(os.path.dirname(path), s), listed_by=os.path.basename(path)) for s in sources]
+    points, inverse = np.unique(np.vstack([p.points for p in pieces]), axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    start = np.cumsum([0] + [len(p.points) for p in pieces])
+    point_data = {}
+    for name, first in pieces[0].point_data.items():
+        point_data[name] = np.zeros((len(points),) + first.shape[1:], dtype=first.dtype)
+        for k, p in enumerate(pieces):
+            point_data[name][inverse[start[k]:start[k + 1]]] = p.point_data[name]
+    volume = "tetra" if any("tetra" in p.cells_dict for p in pieces) else "triangle"
+    types = [volume] + sorted({c.type for p in pieces for c in p.cells} - {volume})
+    cells, cell_data = [], {name: [] for name in pieces[0].cell_data}
+    for kind in types:
+        conn = np.vstack([inverse[start[k] + p.cells_dict[kind]] for k, p in enumerate(pieces) if kind in p.cells_dict])
+        data = {name: np.concatenate([p.cell_data_dict[name][kind] for p in pieces if kind in p.cells_dict])
+                for name in cell_data}
+        if kind != volume:      # boundary cells: those of one piece only
+            _, which, count = np.unique(np.sort(conn, axis=1), axis=0, return_inverse=True, return_counts=True)
+            keep = count[which.ravel()] == 1
+            conn, data = conn[keep], {name: v[keep] for name, v in data.items()}
+        cells.append((kind, conn))
+        for name in cell_data:
+            cell_data[name].append(data[name])
+    return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
 
 
 def body_2d(m, body):
@@ -361,7 +401,7 @@ def main(argv=None):
                                           "a positive finite number (the colour scale's top)"),
                    help="top of the colour scale (default: the max over all frames)")
     a = p.parse_args(argv)
-    started = time.time()
+    started = time.monotonic()
     targets = [a.out or os.path.join(a.run, "animation.gif")]
     try:
         if not targets[0].endswith(".gif"):
@@ -376,7 +416,7 @@ def main(argv=None):
         print(f"error: {err}", file=sys.stderr)
         return err.status
     written = " and ".join(f"{t} ({os.path.getsize(t) / 1e6:.2f} MB)" for t in targets)
-    print(f"animation: wrote {written}, {len(frames)} frames at {a.fps} fps, in {time.time() - started:.1f} s")
+    print(f"animation: wrote {written}, {len(frames)} frames at {a.fps} fps, in {time.monotonic() - started:.1f} s")
     return 0
 
 

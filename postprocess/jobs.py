@@ -188,8 +188,8 @@ def stop_on_interrupt(target, out, stale):
             return
         _stopping.set()
         procs = _signal_groups(signal.SIGINT)
-        deadline = time.time() + 5
-        while time.time() < deadline and any(p.poll() is None for p in procs):
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline and any(p.poll() is None for p in procs):
             time.sleep(0.05)
         _signal_groups(signal.SIGKILL)
         print(f"interrupted: {target} stopped, its runs killed; {out} holds no summary of this run "

@@ -214,14 +214,14 @@ def run_one(case, base_out, timeout):
     out = os.path.join(base_out, label)
     shutil.rmtree(out, ignore_errors=True)
     cmd = [RUN, scene, out, "-progress", "0", "-snapshots", "none"] + full
-    t0 = time.time()
+    t0 = time.monotonic()
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(os.environ, FORCE="1"))
         status, stdout, stderr = p.returncode, p.stdout, p.stderr
     except subprocess.TimeoutExpired as e:
         status, stdout, stderr = "timeout", (e.stdout or b"").decode(errors="replace"), (e.stderr or b"").decode(errors="replace")
     res = dict(case, scene=scene, cmd="FORCE=1 edp/run.sh " + " ".join([scene, "OUT", "-progress", "0", "-snapshots", "none"] + full),
-               full=full, status=status, wall=time.time() - t0, out=out)
+               full=full, status=status, wall=time.monotonic() - t0, out=out)
     res["lines"] = [line for line in stderr.splitlines() if line.startswith(("error:", "warning:"))]
     res["notes"] = [line for line in stdout.splitlines() if line.startswith("note:")]
     header, data = read_history(out)
@@ -391,14 +391,14 @@ def main():
     todo = cases(set(filter(None, a.only.split(","))))
     print(f"{len(todo)} runs, {a.jobs} at a time", flush=True)
     results = []
-    t0 = time.time()
+    t0 = time.monotonic()
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
         futs = [ex.submit(run_one, c, a.out, a.timeout) for c in todo]
         for n, f in enumerate(concurrent.futures.as_completed(futs), 1):
             r = f.result()
             results.append(r)
             if n % 20 == 0:
-                print(f"{n}/{len(todo)} ({time.time() - t0:.0f} s)", flush=True)
+                print(f"{n}/{len(todo)} ({time.monotonic() - t0:.0f} s)", flush=True)
     order = {c["id"]: k for k, c in enumerate(todo)}
     results.sort(key=lambda r: order[r["id"]])
     baselines = {r["context"]: r for r in results if r["id"].startswith("base_")}
@@ -407,7 +407,7 @@ def main():
     for r in results:
         if not r["id"].startswith("base_"):
             classify(r, baselines)
-    write_report(results, a.report, time.time() - t0)
+    write_report(results, a.report, time.monotonic() - t0)
     suspects = [r for r in results if r["flags"]]
     new = [r for r in suspects if any(k is None for k in r["known"])]
     print(f"{len(results)} runs, {len(suspects)} SUSPECT ({len(new)} not on the known list); report: {a.report}")

@@ -78,8 +78,8 @@ START_SECONDS = 180
 def wait_for_a_run(p, out, target):
     """Wait until p (a target in its own process group) has a FreeFEM run working in out; otherwise kill the group
     and fail with one line: the target's status, its processes and the end of its stderr."""
-    deadline = time.time() + START_SECONDS
-    while not freefem_running(out) and time.time() < deadline and p.poll() is None:
+    deadline = time.monotonic() + START_SECONDS
+    while not freefem_running(out) and time.monotonic() < deadline and p.poll() is None:
         time.sleep(0.05)
     if freefem_running(out):
         return
@@ -153,8 +153,8 @@ def test_ctrl_c_of_make_run_mid_run_is_130_and_leaves_a_restartable_run(tmp_path
                           "ARGS=-T 20 -checkpoint_every 50 -progress 0 -vtk 0 -snapshots none"],
                          cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                          env=dict(env, FORCE="1"))
-    deadline = time.time() + 120
-    while history_rows(out / "history.csv") <= 260 and time.time() < deadline and p.poll() is None:
+    deadline = time.monotonic() + 120
+    while history_rows(out / "history.csv") <= 260 and time.monotonic() < deadline and p.poll() is None:
         time.sleep(0.02)
     assert p.poll() is None, "the run ended before it was interrupted"
     status, _, err = interrupt(p)
@@ -196,8 +196,8 @@ def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, e
         p = subprocess.Popen([os.path.join(ROOT, "edp", "run.sh"), str(scene), str(out), "-T", "1", "-progress", "0"],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                              env=dict(os.environ, FORCE="1"))
-        deadline = time.time() + 30
-        while not freefem_running(out) and time.time() < deadline and p.poll() is None:
+        deadline = time.monotonic() + 30
+        while not freefem_running(out) and time.monotonic() < deadline and p.poll() is None:
             time.sleep(0.02)
         assert freefem_running(out), "FreeFEM did not start"
         time.sleep(0.5)
@@ -247,8 +247,8 @@ def started(scene, out, args, rows=60):
     """edp/run.sh SCENE OUT ARGS, in a session of its own, once history.csv holds more than `rows` rows."""
     p = subprocess.Popen([os.path.join(ROOT, "edp", "run.sh"), scene, str(out)] + args, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, start_new_session=True, env=dict(os.environ, FORCE="1"))
-    deadline = time.time() + 120
-    while history_rows(out / "history.csv") <= rows and time.time() < deadline and p.poll() is None:
+    deadline = time.monotonic() + 120
+    while history_rows(out / "history.csv") <= rows and time.monotonic() < deadline and p.poll() is None:
         time.sleep(0.02)
     assert p.poll() is None, "the run ended before it was stopped"
     return p

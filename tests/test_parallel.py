@@ -10,11 +10,14 @@ import resource
 import shutil
 import signal
 import subprocess
+import sys
 import time
 
+import meshio
 import numpy as np
 import pytest
 
+from animate import read_vtu, series
 from conftest import ROOT, RUN, error_lines, files_of, make, refused_into_copy, run_scene, run_scenes
 from history import read_run, read_summary
 
@@ -122,16 +125,68 @@ def test_parallel_runs_equal_the_serial_ones(runs, name, n):
             assert np.abs(serial[c] - parallel[c]).max() <= 1e-9 * 20, c
 
 
-def test_only_process_0_writes_and_the_files_are_the_serial_ones(runs):
-    """OUT holds the files of a serial run, and nothing else: the same names, the same parameters.txt
-    (the number of processes is not a parameter of the run) and mesh, snapshots of the same size."""
-    serial, parallel = files_of(runs["ball"]), files_of(runs["ball_np2"])
-    assert sorted(serial) == sorted(parallel)
+def pieces_of(run_dir, name):
+    """The pieces that a .pvtu of run_dir names."""
+    return re.findall(r'<Piece Source="([^"]*)"/>', open(os.path.join(run_dir, name)).read())
+
+
+@pytest.mark.parametrize("n", PROCESSES["ball"])
+def test_the_files_are_the_serial_ones_with_each_snapshot_in_pieces(runs, n):
+    """OUT holds the files of a serial run and nothing else, but for the snapshots' .vtu (issue 37, item 3): the same
+    parameters.txt (the number of processes is not a parameter of the run), mesh and tables; each vonmises_t<t>.vtu
+    is a vonmises_t<t>.pvtu naming N pieces, one a process, and run.pvd lists it. Merged, the pieces are the serial
+    .vtu: every cell in exactly one of them, the body's boundary and no face between pieces, and every value the
+    serial one to the Krylov tolerance of the history's column (TOL): the displacement, the contact pressure alpha of
+    (6) (the contact's), von Mises and the largest strain per cell and per vertex (the strain's)."""
+    serial_dir, parallel_dir = runs["ball"], runs[f"ball_np{n}"]
+    serial, parallel = files_of(serial_dir), files_of(parallel_dir)
+    expected = set()
+    for f in serial:
+        if f.startswith("vonmises_t"):
+            pvtu = f[:-4] + ".pvtu"
+            assert pieces_of(parallel_dir, pvtu) == [f"{f[:-4]}_{r}.vtu" for r in range(n)]
+            expected |= {pvtu} | set(pieces_of(parallel_dir, pvtu))
+        else:
+            expected.add(f)
+    assert sorted(parallel) == sorted(expected)
     for f in ("parameters.txt", "mesh.mesh", "scene.idp", "foundation.csv"):
         assert serial[f] == parallel[f], f
     for f in serial:
         if f.endswith(".csv") and f.startswith("snapshot"):
             assert serial[f].count(b"\n") == parallel[f].count(b"\n")
+    listed = [[(t, os.path.basename(b), os.path.basename(f)) for t, b, f in series(d)] for d in (serial_dir, parallel_dir)]
+    assert listed[1] == [(t, b[:-4] + ".pvtu", f) for t, b, f in listed[0]]
+    for t in ("0", "10"):
+        whole = meshio.vtu.read(os.path.join(serial_dir, f"vonmises_t{t}.vtu"))
+        merged = read_vtu(os.path.join(parallel_dir, f"vonmises_t{t}.pvtu"))
+        assert {k: len(v) for k, v in merged.cells_dict.items()} == {k: len(v) for k, v in whole.cells_dict.items()}
+        at = {tuple(x): i for i, x in enumerate(whole.points)}
+        assert len(merged.points) == len(whole.points) and all(tuple(x) in at for x in merged.points)
+        same = np.array([at[tuple(x)] for x in merged.points])
+        for name, values in whole.point_data.items():
+            tol = TOL[{"displacement": "displacement", "contact_pressure": "contact"}.get(name, "strain")]
+            assert np.abs(merged.point_data[name] - values[same]).max() <= tol * max(np.abs(values).max(), 1), (t, name)
+        for kind in whole.cells_dict:       # cells by their sorted vertices
+            ours = np.sort(same[merged.cells_dict[kind]], axis=1)
+            theirs = np.sort(whole.cells_dict[kind], axis=1)
+            a, b = np.lexsort(ours.T[::-1]), np.lexsort(theirs.T[::-1])
+            assert np.array_equal(ours[a], theirs[b]), kind
+            for name in whole.cell_data_dict:
+                mine, want = merged.cell_data_dict[name][kind][a], whole.cell_data_dict[name][kind][b]
+                assert np.abs(mine - want).max() <= TOL["strain"] * max(np.abs(want).max(), 1), (t, kind, name)
+
+
+def test_a_piece_that_cannot_be_written_stops_the_run_with_its_line(tmp_path, earlier_ball):
+    """Process 1 alone failing to write its piece of the snapshot at t = 0 (a test hook, as a full disk would: under
+    mpirun RLIMIT_FSIZE also hits Open MPI's own files) while process 0 waits for it: exit 7 with that process's one
+    line naming the piece, the earlier run byte-identical."""
+    p, changed = refused_into_copy(tmp_path, earlier_ball, "ball", ["-T", "1", "-solver", "activeset", "-snapshots", "0",
+                                                                     "-np", "2"] + QUIET,
+                                   env={"CONTACT_TEST_PIECE_FAIL": "1"}, timeout=120)
+    assert p.returncode == 7 and error_lines(p) == [
+        "error: cannot write vonmises_t0_1.vtu in the output directory (disk full?); the output directory is unchanged"], \
+        p.stderr
+    assert not changed
 
 
 def test_a_parallel_run_prints_as_a_serial_one(tmp_path):
@@ -144,15 +199,22 @@ def test_a_parallel_run_prints_as_a_serial_one(tmp_path):
 
 
 def test_a_restart_with_another_number_of_processes_continues_the_run(runs, tmp_path):
-    """A run on 2 processes, restarted from its checkpoint (t = 5, step 100) on 1 process and serially, gives
+    """A run on 2 processes, restarted from its checkpoint (t = 10, step 200) on 1 process and serially, gives
     the uninterrupted history to the Krylov tolerance."""
     straight = read_run(runs["ball_np2"])
     for extra in (["-np", "1"], []):
         out = tmp_path / f"restart{len(extra)}"
-        run_scene("ball", out, ["-restart", runs["ball_np2"], "-T", "14"] + extra + QUIET)
+        run_scene("ball", out, ["-restart", runs["ball_np2"], "-T", "14", "-snapshots", "0,10,12"] + extra + QUIET)
         h = read_run(str(out))
         assert np.array_equal(h["qp_solved"], straight["qp_solved"])
         assert np.abs(h["u3_low"] - straight["u3_low"]).max() <= TOL["displacement"] * 4
+        # the snapshots up to the checkpoint kept as the 2 processes wrote them (a .pvtu and its pieces), the one after
+        # it written as this run writes it; run.pvd lists them all, and the animation's reader merges the pieces
+        kept = [f"vonmises_t{t}{end}" for t in (0, 10) for end in (".pvtu", "_0.vtu", "_1.vtu")]
+        assert all(open(out / f, "rb").read() == open(os.path.join(runs["ball_np2"], f), "rb").read() for f in kept)
+        later = "vonmises_t12.pvtu" if extra else "vonmises_t12.vtu"
+        assert [os.path.basename(b) for _, b, _ in series(str(out))] == ["vonmises_t0.pvtu", "vonmises_t10.pvtu", later]
+        assert len(read_vtu(str(out / later)).cells_dict["tetra"]) == len(read_vtu(str(out / kept[0])).cells_dict["tetra"])
 
 
 @pytest.fixture(scope="module")
@@ -407,3 +469,22 @@ def test_a_body_refused_serially_under_a_memory_cap_runs_on_4_processes(tmp_path
     assert int(read_summary(tmp_path / "np4")["processes"]) == 4 and list(h["step"]) == [0, 1]
     assert abs(h["u3_low"][1] - (4 - 0.1 * 0.05 ** 2 / 2)) <= 1e-12 and abs(h["v3_low"][1] + 0.1 * 0.05) <= 1e-12
     assert abs(h["modified_energy"][1] - h["modified_energy"][0]) <= 1e-12 * abs(h["modified_energy"][0])
+
+
+def test_the_animation_of_a_run_in_pieces_and_a_missing_piece(runs, tmp_path):
+    """postprocess/animate.py reads a -np N run's series (.pvtu, its pieces merged): its frames are drawn from the
+    same cells as the serial run's; a piece missing is exit 3 with one line naming it."""
+    frames = {}
+    for name in ("ball", "ball_np2"):
+        out = tmp_path / name
+        shutil.copytree(runs[name], out)
+        p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", "animate.py"), "--run", str(out), "--dpi", "20"],
+                           capture_output=True, text=True)
+        assert p.returncode == 0 and (out / "animation.gif").exists(), p.stderr
+        frames[name] = [read_vtu(b) for _, b, _ in series(str(out))]
+    assert [len(m.cells_dict["tetra"]) for m in frames["ball_np2"]] == [len(m.cells_dict["tetra"]) for m in frames["ball"]]
+    os.remove(tmp_path / "ball_np2" / "vonmises_t10_1.vtu")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "postprocess", "animate.py"), "--run", str(tmp_path / "ball_np2")],
+                       capture_output=True, text=True)
+    assert p.returncode == 3 and p.stderr.splitlines() == [
+        f"error: vonmises_t10.pvtu lists vonmises_t10_1.vtu, which is missing from {tmp_path / 'ball_np2'}"], p.stderr

@@ -23,8 +23,8 @@ def start(scene, out, args):
 
 
 def wait_for_rows(history, rows, seconds=120):
-    deadline = time.time() + seconds
-    while time.time() < deadline:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
         if os.path.exists(history) and sum(1 for _ in open(history)) > rows:
             return
         time.sleep(0.05)

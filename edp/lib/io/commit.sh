@@ -37,6 +37,12 @@ prepare)
     [ -n "$f" ] || continue
     [ -f "$dir/$f" ] || fail 3 "-restart $dir: its $f is missing (the run wrote it before its checkpoint); $unchanged"
     cp "$dir/$f" . 2>/dev/null || fail 7 "cannot copy $dir/$f (disk full?); $unchanged"
+    case $f in *.pvtu)     # -np N's snapshot: its pieces too (io/snapshot_pieces.idp)
+      for p in $(sed -n 's/.*<Piece Source="\([^"]*\)".*/\1/p' "$f"); do
+        [ -f "$dir/$p" ] || fail 3 "-restart $dir: its $p is missing (a piece of $f, which the run wrote before its checkpoint); $unchanged"
+        cp "$dir/$p" . 2>/dev/null || fail 7 "cannot copy $dir/$p (disk full?); $unchanged"
+      done ;;
+    esac
   done < restart_files.txt
   rm -f expected_header.txt restart_files.txt
   ;;
@@ -54,12 +60,12 @@ commit)
   # has gone past the run's last row or ends well; edp/run.sh puts them back if it stops before (outputs.md)
   if [ -n "${CONTACT_RESTART:-}" ] && [ "$(cd "$out" && pwd -P)" = "$CONTACT_RESTART" ]; then
     rm -rf "$out/.restart_kept" && mkdir "$out/.restart_kept" || fail 7 "cannot write into the output directory (disk full?)"
-    for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu; do
+    for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu; do
       f=${f##*/}
       [ ! -e "$out/$f" ] || mv -f "$out/$f" "$out/.restart_kept/" 2>/dev/null || fail 7 "cannot keep the run's $f aside"
     done
   fi
-  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
+  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
     f=${f##*/}
     if [ -e "$out/$f" ] && [ ! -e "$f" ]; then
       rm -f "$out/$f" 2>/dev/null || fail 7 "cannot remove the earlier run's $f from the output directory"
@@ -72,7 +78,7 @@ commit)
   ;;
 restore)      # edp/run.sh, when a restart into OUT itself stopped before it passed the run's last row: OUT's run
               # files are the restart's; remove them and put the kept ones back
-  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
+  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
     rm -f "$out/${f##*/}"
   done
   for f in "$out/.restart_kept"/* "$out/.restart_kept"/.[!.]*; do

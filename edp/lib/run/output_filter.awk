@@ -18,13 +18,15 @@ tagged { rank = -1
          if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
                                                                 rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
 tagged && /^exit-status [0-9]+$/ { stop($2); next }
-tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
+tagged && rank != 0 {     # (rank -1: a line of mpirun itself; a process's own error line, shown if process 0 has none:
+                          # a failure of that process alone, such as writing its piece of a snapshot)
+  if (/^error: / && other_error == "") other_error = $0
   if ($0 ~ trace && $0 !~ /^(error|warning): /) {
     if (detail == "") { detail = (rank < 0 ? "mpirun" : "process " rank) ": " $0; gsub(/^[ \t]+|[ \t]+$/, "", detail) }
     stop("crash")
   }
   next }
-/^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); next }
+/^error: |^warning: / { newline(); print > "/dev/stderr"; fflush("/dev/stderr"); if (/^error: /) printed_error = 1; next }
 /^(note: |mesh |reference point: |initial state: |probe [0-9]+: |restart from step |[0-9]+ steps, )/ { newline(); print; fflush(); next }
 /^progress / { sub(/^progress /, "")
                if (tty) { printf "\r%s   ", $0; pending = 1 }
@@ -52,6 +54,7 @@ tagged && rank != 0 {     # (rank -1: a line of mpirun itself)
   next }
 { next }
 END { newline()
+      if (other_error != "" && !printed_error) print other_error > "/dev/stderr"
       if (compile) exit 3
       # the files the run writes (edp/lib/io/, contact.edp): a failed open is a failed write
       if (opened ~ /(history\.csv|parameters\.txt|foundation\.csv|\.part|\.part\.vtu|expected_header\.txt|restart_files\.txt)$/) {
