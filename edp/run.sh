@@ -188,8 +188,9 @@ fi
 [ -f "$here/lib/material/$material.idp" ] || err "edp/lib/material/materials.txt lists -material $material, but edp/lib/material/$material.idp is missing" 1
 processes=serial
 [ -n "$np" ] && processes=mpi
-# a serial run's solves with A go through CHOLMOD's factor in the plugin make builds (solve/direct.idp)
-[ -n "$np" ] || [ -f "$root/build/plugins/cholmod_columns.so" ] ||
+# the solves with A go through CHOLMOD's factor in the plugin make builds (solve/direct.idp; -np: the subdomains'
+# factors, solve/ffddm_solve.idp)
+[ -f "$root/build/plugins/cholmod_columns.so" ] ||
   err "$root/build/plugins/cholmod_columns.so is missing: build it with 'make plugins' (it needs g++ and libsuitesparse-dev; 'make deps' installs them)" 1
 write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
 # IPOPT reads ipopt.opt from its working directory
@@ -198,7 +199,7 @@ cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot w
 # ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
 if [ -n "$np" ]; then
   # -np N: FreeFem++-mpi's plugins, and ffddm's files as Debian can load them
-  export FF_LOADPATH=/usr/lib/freefem++/mpi
+  export FF_LOADPATH="/usr/lib/freefem++/mpi;.plugins"
   sh "$here/lib/solve/ffddm_without_mumps.sh" "$stage/.ffddm" 2>/dev/null || err "cannot write into $out (disk full?)" 7
   export FF_INCLUDEPATH=".;.ffddm;.edp;/usr/include/freefem++/idp"
   # Open MPI refuses to start as root without these (CI runs as root)

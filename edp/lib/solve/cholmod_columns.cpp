@@ -115,6 +115,12 @@ long solveFull(const long &h, KN< double > *const &x, KN< double > *const &b) {
   solveInto(f, CHOLMOD_A, output(x, f->n, "x"), contiguous(b, f->n, "b"));
   return 0;
 }
+// k systems at once, b and x their columns one after the other (CHOLMOD reads L once for all k)
+long solveMany(const long &h, KN< double > *const &x, KN< double > *const &b, const long &k) {
+  ColumnFactor *f = factorOf(h);
+  solveInto(f, CHOLMOD_A, output(x, f->n * k, "x"), contiguous(b, f->n * k, "b"), k);
+  return 0;
+}
 
 // out = second(first(in)): a half of the solve, its permutation on the outer side
 long twoSystems(const long &h, KN< double > *out, KN< double > *in, int first, int second, const char *outName,
@@ -232,6 +238,8 @@ double wallSeconds( ) { return std::chrono::duration< double >(std::chrono::stea
 static void Load_Init( ) {
   Global.Add("cholmodFactor", "(", new OneOperator3_< long, Matrice_Creuse< double > *, string *, string * >(factorise));
   Global.Add("cholmodSolve", "(", new OneOperator3_< long, long, KN< double > *, KN< double > * >(solveFull));
+  Global.Add("cholmodSolveMany", "(",
+             new OneOperator4_< long, long, KN< double > *, KN< double > *, long >(solveMany));
   Global.Add("cholmodForward", "(", new OneOperator3_< long, long, KN< double > *, KN< double > * >(forward));
   Global.Add("cholmodBackward", "(", new OneOperator3_< long, long, KN< double > *, KN< double > * >(backward));
   Global.Add("cholmodAddColumns", "(", new OneOperator2_< long, long, KN< long > * >(addColumns));
