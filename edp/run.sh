@@ -305,7 +305,7 @@ given=""
 if [ -s "$errfile.stop" ]; then
   given=$(head -n 1 "$errfile.stop")
   case "$given" in
-    3 | 4 | 5 | 7) rc=$given ;;
+    3 | 4 | 5 | 7 | 8) rc=$given ;;
     crash) [ "$rc" = 0 ] && rc=1 ;;
   esac
 fi
@@ -346,8 +346,10 @@ case "$rc" in
        [ "$rc" = 1 ] && exit_status=143
      elif [ "$filter" = 3 ] || [ "$filter" = 7 ]; then
        exit_status=$filter
-     elif [ "$rc" = 8 ] && [ ! -s "$errfile" ]; then
-       exit_status=8      # (the driver's own: A's Cholesky factor refused under the limit, solve/direct.idp; its line is said)
+     elif [ "$rc" = 8 ] && { [ ! -s "$errfile" ] || [ "$given" = 8 ]; }; then
+       # (the driver's own: A's Cholesky factor refused under the limit, solve/direct.idp, or on -np a subdomain's,
+       # solve/ffddm_solve.idp, whose other processes' exits FreeFEM reports as an error; its line is said)
+       exit_status=8
      elif [ -n "$memory_said" ] ||
           { [ -n "$memory_limit" ] && { [ "$rc" = 139 ] || [ "$rc" = 134 ] || [ "$given" = crash ]; }; }; then
        # out of memory: CHOLMOD or FreeFEM said so, or FreeFEM crashed (SIGSEGV, SIGABRT: a failed allocation it did not

@@ -436,7 +436,8 @@ def test_a_run_out_of_memory_under_a_limit_is_one_line(tmp_path, n):
 
 
 # Issue 37, item 6: ball_refine4 (27,329 vertices) under one cap a process. Measured (2026-11-27, VmData, what
-# RLIMIT_DATA bounds): serially 442 MiB before the factorisation, whose L alone needs 678 MiB more; on 4 processes
+# RLIMIT_DATA bounds): serially 442 MiB before the factorisation, whose L alone needs 678 MiB more (806 with OpenBLAS's buffer, as the
+# refusal counts it); on 4 processes
 # the run reaches T under 700 MiB and not under 600 (each process's VmData includes Open MPI's and the allocator's
 # reserved address space, well above its resident peak of 544 MiB). OpenBLAS, where it is the BLAS, reserves a buffer
 # for each of its threads in each process, counted by RLIMIT_DATA too: with its default threads the 4 processes did not
@@ -471,6 +472,27 @@ def test_a_body_refused_serially_under_a_memory_cap_runs_on_4_processes(tmp_path
     assert int(read_summary(tmp_path / "np4")["processes"]) == 4 and list(h["step"]) == [0, 1]
     assert abs(h["u3_low"][1] - (4 - 0.1 * 0.05 ** 2 / 2)) <= 1e-12 and abs(h["v3_low"][1] + 0.1 * 0.05) <= 1e-12
     assert abs(h["modified_energy"][1] - h["modified_energy"][0]) <= 1e-12 * abs(h["modified_energy"][0])
+
+
+def test_a_subdomain_factor_that_does_not_fit_a_memory_cap_stops_every_process(tmp_path, earlier_ball):
+    """Under -np N each process factorises its own part of A (solve/ffddm_solve.idp, the plugin's CHOLMOD). Where
+    that factor and OpenBLAS's 128 MiB work buffer do not fit what the cap leaves (ball_refine4 on 2 processes under
+    700 MiB a process: measured 2026-11-27, the factor 428 MiB, 326 left; at 800 MiB 426 were left, which OpenBLAS's
+    allocator then waited on for ever), every process stops before the factorisation: exit 8, one line naming both
+    sizes and -np, and the earlier run in OUT byte-identical."""
+    mesh = make(["meshes/ball_refine4.msh"])
+    assert mesh.returncode == 0, mesh.stdout + mesh.stderr
+    out = tmp_path / "copy"
+    shutil.copytree(earlier_ball, out)
+    before = files_of(out)
+    p, seconds = run_group("ball", out, ["-mesh", "meshes/ball_refine4.msh", "-T", "0.05", "-solver", "activeset",
+                                         "-snapshots", "none", "-np", "2"] + QUIET,
+                           ONE_BLAS_THREAD, limit=300, data_limit=700 << 20)
+    assert p.returncode == 8 and len(error_lines(p)) == 1, p.stderr
+    assert re.fullmatch(r"error: a subdomain's Cholesky factor of A needs \d+ MiB, and its process's memory limit leaves "
+                        r"\d+ MiB on -np 2 processes: run it on more processes, each of which holds a smaller part of the "
+                        r"body \(docs/parallel\.md\), or raise the limit", error_lines(p)[0]), p.stderr
+    assert files_of(out) == before
 
 
 def test_the_animation_of_a_run_in_pieces_and_a_missing_piece(runs, tmp_path):

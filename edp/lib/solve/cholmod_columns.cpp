@@ -85,9 +85,11 @@ long factorise(Matrice_Creuse< double > *const &pA, string *const &ordering, str
   f->n = H->n;
   f->L = cholmod_analyze(&A, &f->c);
   if (!f->L) ExecError("cholmod_columns: the analysis of A failed");
-  // refused before the numeric factorisation when L alone (its values and row indices, as the analysis counts them)
-  // does not fit in what the memory limit leaves: a process that would fail inside CHOLMOD or BLAS says so instead
-  double need = (f->L->is_super ? f->L->xsize * 8. + f->L->ssize * 4. : f->c.lnz * 12.) / 1048576., left = memoryLeftMiB( );
+  // refused before the numeric factorisation when L (its values and row indices, as the analysis counts them) and
+  // the 128 MiB work buffer OpenBLAS allocates for a supernodal factorisation do not fit in what the memory limit
+  // leaves: a process that would fail inside CHOLMOD, or wait for ever in OpenBLAS's allocator, says so instead
+  double need = (f->L->is_super ? f->L->xsize * 8. + f->L->ssize * 4. + 134217728. : f->c.lnz * 12.) / 1048576.;
+  double left = memoryLeftMiB( );
   bool fits = (left < 0 || need <= left);
   if (fits) cholmod_factorize(&A, f->L, &f->c);
   else refusedMiB[0] = need, refusedMiB[1] = left;
