@@ -85,8 +85,7 @@ long factorise(Matrice_Creuse< double > *const &pA, string *const &ordering, str
   f->n = H->n;
   f->L = cholmod_analyze(&A, &f->c);
   if (!f->L) ExecError("cholmod_columns: the analysis of A failed");
-  // refused before the numeric factorisation when L (its values and row indices, as the analysis counts them) and
-  // the 128 MiB work buffer OpenBLAS allocates for a supernodal factorisation do not fit in what the memory limit
+  // refused when L (as the analysis counts it) and OpenBLAS's 128 MiB work buffer do not fit what the memory limit
   // leaves: a process that would fail inside CHOLMOD, or wait for ever in OpenBLAS's allocator, says so instead
   double need = (f->L->is_super ? f->L->xsize * 8. + f->L->ssize * 4. + 134217728. : f->c.lnz * 12.) / 1048576.;
   double left = memoryLeftMiB( );
