@@ -15,6 +15,14 @@ out=..
 unchanged="the output directory is unchanged"
 fail() { echo "error: $2"; exit "$1"; }
 run_files="history.csv parameters.txt scene.idp ipopt.opt ipopt.out mesh.msh mesh.mesh foundation.csv summary.txt checkpoint.txt run.pvd"
+# the run's files in OUT, a name a line: run_files and the snapshots (-np N's pieces, vonmises_t*_<rank>.vtu, among
+# vonmises_t*.vtu); "partial": also what a stopped write leaves (*.part). The one list of commit's and restore's loops.
+out_run_files() {
+  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu; do
+    [ ! -e "$out/${f##*/}" ] || echo "${f##*/}"
+  done
+  [ "${1:-}" != partial ] || for f in "$out"/*.part "$out"/*.part.vtu; do [ ! -e "$f" ] || echo "${f##*/}"; done
+}
 
 case "${1:-}" in
 prepare)
@@ -60,14 +68,12 @@ commit)
   # has gone past the run's last row or ends well; edp/run.sh puts them back if it stops before (outputs.md)
   if [ -n "${CONTACT_RESTART:-}" ] && [ "$(cd "$out" && pwd -P)" = "$CONTACT_RESTART" ]; then
     rm -rf "$out/.restart_kept" && mkdir "$out/.restart_kept" || fail 7 "cannot write into the output directory (disk full?)"
-    for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu; do
-      f=${f##*/}
-      [ ! -e "$out/$f" ] || mv -f "$out/$f" "$out/.restart_kept/" 2>/dev/null || fail 7 "cannot keep the run's $f aside"
+    for f in $(out_run_files); do
+      mv -f "$out/$f" "$out/.restart_kept/" 2>/dev/null || fail 7 "cannot keep the run's $f aside"
     done
   fi
-  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
-    f=${f##*/}
-    if [ -e "$out/$f" ] && [ ! -e "$f" ]; then
+  for f in $(out_run_files partial); do
+    if [ ! -e "$f" ]; then
       rm -f "$out/$f" 2>/dev/null || fail 7 "cannot remove the earlier run's $f from the output directory"
     fi
   done
@@ -78,9 +84,7 @@ commit)
   ;;
 restore)      # edp/run.sh, when a restart into OUT itself stopped before it passed the run's last row: OUT's run
               # files are the restart's; remove them and put the kept ones back
-  for f in $run_files "$out"/snapshot_t*.csv "$out"/vonmises_t*.vtu "$out"/vonmises_t*.pvtu "$out"/foundation_t*.vtu "$out"/*.part "$out"/*.part.vtu; do
-    rm -f "$out/${f##*/}"
-  done
+  for f in $(out_run_files partial); do rm -f "$out/$f"; done
   for f in "$out/.restart_kept"/* "$out/.restart_kept"/.[!.]*; do
     [ ! -e "$f" ] || mv -f "$f" "$out/" || fail 7 "cannot put the run's ${f##*/} back from $out/.restart_kept"
   done
