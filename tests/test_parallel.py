@@ -439,9 +439,9 @@ def test_a_run_out_of_memory_under_a_limit_is_one_line(tmp_path, n):
 # RLIMIT_DATA bounds): serially 442 MiB before the factorisation, whose L alone needs 678 MiB more (806 with
 # OpenBLAS's buffer, as the refusal counts it); on 4 processes the run reaches T under 700 MiB and not under 600
 # (each process's VmData includes Open MPI's and the allocator's reserved address space, well above its resident
-# peak of 544 MiB). OpenBLAS, where it is the BLAS, reserves a buffer
-# for each of its threads in each process, counted by RLIMIT_DATA too: with its default threads the 4 processes did not
-# fit under 800 MiB, with one thread each they do (2026-11-27), so both runs take OPENBLAS_NUM_THREADS=1.
+# peak of 544 MiB). OpenBLAS, where it is the BLAS, reserves a buffer for each of its threads in each process,
+# counted by RLIMIT_DATA too: with its default threads the 4 processes did not fit under 800 MiB, with one thread
+# each they do (2026-11-27), so both runs take OPENBLAS_NUM_THREADS=1.
 CAP_MIB = 800
 ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1"}
 
