@@ -76,7 +76,12 @@ endef
 # The serial solves' plugin (edp/lib/solve/cholmod_columns.cpp: CHOLMOD's factor with its halves apart), built
 # with FreeFEM's ff-c++ into build/plugins/, where edp/run.sh loads it from
 PLUGIN = build/plugins/cholmod_columns.so
-deps-run: $(PLUGIN)
+# and the studies' launcher (postprocess/peak_rss.cpp: a run's peak memory, not the forking Python's)
+PEAK_RSS = build/peak_rss
+deps-run: $(PLUGIN) $(PEAK_RSS)
+$(PEAK_RSS): postprocess/peak_rss.cpp | deps-packages
+	@mkdir -p build
+	@g++ -O2 -Wall -o $@ $<
 deps-packages:
 	$(call install_missing, \
 	command -v FreeFem++-nw >/dev/null || missing="$$missing freefem++"; \

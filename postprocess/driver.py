@@ -4,6 +4,7 @@ Runs start through jobs.py: in a process group of their own, on --np N processes
 import os
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -14,6 +15,7 @@ from history import error_lines, guard_stop, read_run, read_summary  # noqa: E40
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUN = os.path.join(ROOT, "edp", "run.sh")
 PLUGINS = os.path.join(ROOT, "build", "plugins")
+PEAK_RSS = os.path.join(ROOT, "build", "peak_rss")      # postprocess/peak_rss.cpp, built by `make deps`
 
 
 def freefem_env(**extra):
@@ -24,11 +26,13 @@ def freefem_env(**extra):
 
 
 class Run:
-    """A finished process: cmd, returncode, stdout, stderr ("" when merged into stdout), wall seconds and
-    usage (os.wait4's: its own CPU time and peak memory, FreeFEM included)."""
+    """A finished process: cmd, returncode, stdout, stderr ("" when merged into stdout), wall seconds, usage
+    (os.wait4's: its own CPU time, FreeFEM included) and peak_KiB (build/peak_rss's: the largest resident size
+    of any of its processes, from its own start, not from this Python process's size)."""
 
-    def __init__(self, cmd, returncode, stdout, stderr, wall, usage):
+    def __init__(self, cmd, returncode, stdout, stderr, wall, usage, peak_KiB):
         self.cmd, self.returncode, self.stdout, self.stderr, self.wall, self.usage = cmd, returncode, stdout, stderr, wall, usage
+        self.peak_KiB = peak_KiB
 
     @property
     def cpu_s(self):
@@ -36,7 +40,7 @@ class Run:
 
     @property
     def peak_MiB(self):
-        return self.usage.ru_maxrss / 1024
+        return self.peak_KiB / 1024
 
     @property
     def last_line(self):
@@ -45,11 +49,19 @@ class Run:
 
 
 def timed_process(cmd, merge=False, **kwargs):
-    """cmd run to its end (jobs.start: its own process group, stopped by Ctrl-C): a Run. merge: stderr
-    into stdout, in the order written."""
+    """cmd run to its end (jobs.start: its own process group, stopped by Ctrl-C) through build/peak_rss: a Run.
+    merge: stderr into stdout, in the order written."""
+    if not os.access(PEAK_RSS, os.X_OK):
+        sys.exit(f"{PEAK_RSS} is missing (it measures a run's peak memory): run make deps")
+    fd, peak_file = tempfile.mkstemp(prefix="peak_rss.")
+    os.close(fd)
     t0 = time.perf_counter()
-    p = jobs.start(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT if merge else subprocess.PIPE, text=True,
-                   **kwargs)
+    try:
+        p = jobs.start([PEAK_RSS, peak_file] + list(cmd), stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT if merge else subprocess.PIPE, text=True, **kwargs)
+    except BaseException:
+        os.unlink(peak_file)
+        raise
     try:
         err = []
         reader = None if merge else threading.Thread(target=lambda: err.append(p.stderr.read()))
@@ -58,15 +70,21 @@ def timed_process(cmd, merge=False, **kwargs):
         out = p.stdout.read()
         if reader:
             reader.join()
-        # wait4, not wait: this run's own CPU time and peak memory (Linux counts reaped descendants)
+        # wait4, not wait: this run's own CPU time (Linux counts reaped descendants)
         _, status, usage = os.wait4(p.pid, 0)
         p.returncode = os.waitstatus_to_exitcode(status)
+        with open(peak_file) as f:
+            peak = f.read().strip()
     finally:
         for f in (p.stdout, p.stderr):
             if f:
                 f.close()
+        os.unlink(peak_file)
         jobs.finished(p)
-    return Run(cmd, p.returncode, out, "".join(err), time.perf_counter() - t0, usage)
+    if not peak.isdigit() and p.returncode == 0:
+        sys.exit(f"{PEAK_RSS} did not report the peak memory of: {' '.join(cmd)}")
+    # (a run killed with its launcher has no peak: None, and a failed run's peak is never tabled)
+    return Run(cmd, p.returncode, out, "".join(err), time.perf_counter() - t0, usage, int(peak) if peak.isdigit() else None)
 
 
 def run_case(scene, out, args, log=None, merge=False, cwd=None):
