@@ -34,7 +34,6 @@ _running = set()
 # deadlocked a Ctrl-C that landed while the main thread registered a run)
 _lock = threading.RLock()
 _stopping = threading.Event()
-_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 class Interrupted(Exception):
@@ -65,20 +64,37 @@ def path(text):
 
 def start(cmd, **kwargs):
     """subprocess.Popen(cmd, **kwargs) in its own process group, registered until finished(p).
-    Started and registered under the lock (the handler takes it too) and, in the main thread, with
-    SIGINT and SIGTERM held back until it is registered: a run is either killed by the handler or
-    never started, never left running outside its reach."""
-    main = threading.current_thread() is threading.main_thread()
+    Started and registered under the lock, which the handler takes too: a run is either killed by the
+    handler or never started, never left running outside its reach. From the main thread, where the
+    handler runs, a short-lived thread starts it while the main thread waits: holding SIGINT and SIGTERM
+    back in the main thread instead (as before 2026-11-27) passed them on blocked to the run (Popen's child
+    keeps its parent's signal mask, and neither bash nor FreeFEM clears it), so Ctrl-C reached a run only as
+    the SIGKILL 5 s later."""
+    if threading.current_thread() is not threading.main_thread():
+        return _start_registered(cmd, **kwargs)
+    started = []
+    t = threading.Thread(target=lambda: started.append(_start_or_error(cmd, **kwargs)))
+    t.start()
+    t.join()
+    p, error = started[0]
+    if error is not None:
+        raise error
+    return p
+
+
+def _start_or_error(cmd, **kwargs):
+    try:
+        return _start_registered(cmd, **kwargs), None
+    except BaseException as e:      # (raised again in the calling thread)
+        return None, e
+
+
+def _start_registered(cmd, **kwargs):
     with _lock:
-        held = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS) if main else None
-        try:
-            if _stopping.is_set():
-                raise Interrupted()
-            p = subprocess.Popen(cmd, start_new_session=True, **kwargs)
-            _running.add(p)
-        finally:
-            if held is not None:
-                signal.pthread_sigmask(signal.SIG_SETMASK, held)
+        if _stopping.is_set():
+            raise Interrupted()
+        p = subprocess.Popen(cmd, start_new_session=True, **kwargs)
+        _running.add(p)
     return p
 
 

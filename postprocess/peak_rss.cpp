@@ -19,8 +19,8 @@ int main(int argc, char **argv) {
         std::fprintf(stderr, "usage: peak_rss FILE CMD [ARG...]\n");
         return 2;
     }
-    // CMD starts with no signal blocked, as from a shell (Python's subprocess passes on the mask it held while
-    // starting this process: jobs.py holds back SIGINT and SIGTERM), and this process can end by CMD's signal
+    // CMD starts with no signal blocked whatever its caller held back (Popen's child keeps its parent's mask),
+    // and this process can end by CMD's signal
     sigset_t none_blocked;
     sigemptyset(&none_blocked);
     sigprocmask(SIG_SETMASK, &none_blocked, nullptr);

@@ -126,6 +126,18 @@ def test_ctrl_c_stops_the_target_whole(tmp_path, target):
     assert not (out / summary).exists(), f"{target}: a stale {summary} is left"
 
 
+def test_a_study_s_run_starts_with_no_signal_blocked():
+    # the handler's SIGINT must reach the runs (bash's trap, FreeFEM): before 2026-11-27 jobs.start held SIGINT
+    # and SIGTERM back in the main thread while starting a run, Popen's child kept that mask, and Ctrl-C reached
+    # the runs only as the SIGKILL 5 s later (SigBlk 0000000000004002 in /proc of every run)
+    import jobs
+    for cmd in (["bash", "-c", "grep SigBlk /proc/self/status"], ["grep", "SigBlk", "/proc/self/status"]):
+        p = jobs.start(cmd, stdout=subprocess.PIPE, text=True)
+        out, _ = p.communicate()
+        jobs.finished(p)
+        assert out.split() == ["SigBlk:", "0" * 16], (cmd, out)
+
+
 # ---- make run and edp/run.sh (docs/errors.md: status 130)
 
 def interrupt(p, seconds=30):
