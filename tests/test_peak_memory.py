@@ -47,3 +47,19 @@ def test_the_launcher_passes_the_run_s_ending_on(script, status):
     r = timed_process(["sh", "-c", script])
     assert r.returncode == status and r.peak_MiB < 10, (r.returncode, r.peak_MiB)
     assert os.access(PEAK_RSS, os.X_OK)
+
+
+def test_a_missing_or_silent_launcher_is_one_clear_line(tmp_path, monkeypatch):
+    # without build/peak_rss no run starts (no peak that looks measured): one line naming it and make deps; a
+    # launcher that reports nothing for a run that exits 0 is one line naming the run, never a peak of 0
+    import driver
+    monkeypatch.setattr(driver, "PEAK_RSS", str(tmp_path / "peak_rss"))
+    with pytest.raises(SystemExit) as e:
+        timed_process(["/bin/true"])
+    assert str(e.value) == f"{tmp_path / 'peak_rss'} is missing (it measures a run's peak memory): run make deps"
+    silent = tmp_path / "peak_rss"
+    silent.write_text('#!/bin/sh\nshift\nexec "$@"\n')
+    silent.chmod(0o755)
+    with pytest.raises(SystemExit) as e:
+        timed_process(["/bin/true"])
+    assert str(e.value) == f"{silent} did not report the peak memory of: /bin/true"
