@@ -57,6 +57,17 @@ def freefem_running(out, script=""):
     return False
 
 
+def freefem_started(p, out, seconds, script=""):
+    """Whether, within seconds and while p runs, a FreeFEM process (on script, when given) works in out: decided on
+    one look, since run.sh's first FreeFEM (edp/lib/run/choices.edp) may be gone by a second one."""
+    deadline = time.monotonic() + seconds
+    while True:
+        going = freefem_running(out, script)
+        if going or time.monotonic() >= deadline or p.poll() is not None:
+            return going
+        time.sleep(0.02)
+
+
 # How long a target may take to start its first run of the driver: 0.3 to 2 s alone, more on CI's shared machine.
 # What is checked is what Ctrl-C does once a run is going, not how fast one starts.
 START_SECONDS = 180
@@ -101,13 +112,7 @@ def wait_for_a_run(p, out, target):
     stderr. (Before 2026-11-28 any FreeFEM process counted, and it was looked for twice: run.sh's first, short
     FreeFEM, edp/lib/run/choices.edp, could end between the two looks, and the test failed at once, saying "no run
     started within 180 s"; about 1 run in 25 of make methods beside another test, and in CI on 5c38324.)"""
-    deadline = time.monotonic() + START_SECONDS
-    while True:
-        going = freefem_running(out, "contact.edp")
-        if going or time.monotonic() >= deadline or p.poll() is not None:
-            break
-        time.sleep(0.05)
-    if going:
+    if freefem_started(p, out, START_SECONDS, "contact.edp"):
         return
     status = p.poll()
     below = descendants(p.pid)          # (what the target and its runs were doing instead)
@@ -230,10 +235,7 @@ def test_ctrl_c_of_run_sh_before_the_run_starts_leaves_out_unchanged(tmp_path, e
         p = subprocess.Popen([os.path.join(ROOT, "edp", "run.sh"), str(scene), str(out), "-T", "1", "-progress", "0"],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                              env=dict(os.environ, FORCE="1"))
-        deadline = time.monotonic() + 30
-        while not freefem_running(out) and time.monotonic() < deadline and p.poll() is None:
-            time.sleep(0.02)
-        assert freefem_running(out), "FreeFEM did not start"
+        assert freefem_started(p, out, 30), "FreeFEM did not start"
         time.sleep(0.5)
         if how == "Ctrl-C":
             status, _, err = interrupt(p)
