@@ -216,6 +216,17 @@ def test_activeset_computes_only_the_schur_columns_it_needs(runs):
     assert 0 < flat < 49 and 0 < cosine < 2 * 49 and cosine % 2 == 0
 
 
+def test_schur_complement_holds_only_the_known_columns(runs):
+    """S and its blocks keep a column per known contact node only (contact/schur_blocks.idp), not one per node of
+    Gamma_C: at least the known nodes' columns and at most twice as many (the width doubles from 16), fewer than
+    the 49 contact vertices. On Test 1's flat foundation (the factor's columns) each known node is one of
+    schur_solves; on Test 2's cosine from solves (-factorization lu, its slope blocks too) two."""
+    for key, per_node in (("test1_activeset", 1), ("test2_activeset_lu", 2)):
+        summary = read_summary(runs[key])
+        known, held = int(summary["schur_solves"]) // per_node, int(summary["schur_columns"])
+        assert 0 < known <= held <= max(16, 2 * known) and held < 49, (key, known, held)
+
+
 BAD_GEOMETRY = {
     "no such Dirichlet label": ("test1", ["-dirichlet_label", "7"], "has no boundary edge with label 7 (Gamma_D"),
     "Gamma_D over Gamma_C": ("test1", ["-dirichlet_label", "1"], "Gamma_D must not overlap Gamma_C"),
