@@ -17,6 +17,13 @@ from stress_cases import FAST, case_args, may_break  # noqa: E402
 
 RUN = os.path.join(ROOT, "edp", "run.sh")
 
+# One BLAS thread a simulation (unless the caller chose): the suite runs two at a time on 2 cores, and Debian's
+# pthreads OpenBLAS (the BLAS once python3-numpy is installed) starts a thread per core in each, so 4 threads spun on
+# 2 cores. The oblique Hertz ball of `make friction` took 8.0 s of CPU and 4.6 s alone with them, 3.1 s and 3.5 s with
+# one (2026-11-28); its history moves only by round-off (docs/tests.md).
+for _blas_threads in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+    os.environ.setdefault(_blas_threads, "1")
+
 # name: (scene, options). Horizons cover the first bounce and the rebound after it.
 RUNS = {
     "test1": ("test1", ["-T", "45"]),
