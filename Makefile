@@ -94,8 +94,7 @@ deps-packages:
 	ls /usr/lib/*/openblas-pthread/libblas.so.3 >/dev/null 2>&1 || missing="$$missing libopenblas0-pthread"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
 plugins: $(PLUGIN)
-$(PLUGIN): edp/lib/solve/cholmod_columns.cpp edp/lib/solve/memory_left.hpp edp/lib/solve/cholmod_arrays.hpp \
-           edp/lib/solve/times_many.hpp | deps-packages
+$(PLUGIN): edp/lib/solve/cholmod_columns.cpp edp/lib/solve/memory_left.hpp edp/lib/solve/cholmod_arrays.hpp | deps-packages
 	@mkdir -p build/plugins
 	@echo "building $@ (ff-c++) ..."
 	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp ../../edp/lib/solve/*.hpp . && \

@@ -19,7 +19,6 @@
 //   real e = cholmodColumnEntries(h)          the entries kept for the columns
 //   real s = cholmodFactorEntries(h)          the entries of L
 //   real t = wallSeconds()                    a steady wall clock, in seconds (FreeFEM's time() counts whole seconds)
-//   matrixTimesMany(B, y, x, k)               y = B x for k vectors at once, B read once (solve/times_many.hpp)
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
@@ -37,12 +36,13 @@ struct ColumnFactor {
   double entries = 0;
 };
 std::vector< ColumnFactor * > factors;
+
 ColumnFactor *factorOf(long h) {
   if (h < 0 || h >= (long)factors.size( ) || !factors[h]) ExecError("cholmod_columns: no such factor");
   return factors[h];
 }
+
 #include "cholmod_arrays.hpp"    // view, contiguous, output
-#include "times_many.hpp"        // matrixTimesMany's y = B x for k vectors
 double refusedMiB[2] = {0, 0};      // the last refusal's: what L needed, what the limit left
 
 // x = op(b) for one CHOLMOD system, into x (b and x may not overlap)
@@ -254,6 +254,6 @@ static void Load_Init( ) {
   Global.Add("cholmodFactorEntries", "(", new OneOperator1_< double, long >(factorEntries));
   Global.Add("cholmodRefusedMiB", "(", new OneOperator1_< double, long >(refusedMiBOf));
   Global.Add("wallSeconds", "(", new OneOperator0< double >(wallSeconds));
-  Global.Add("matrixTimesMany", "(", new OneOperator4_< long, Matrice_Creuse< double > *, KN< double > *, KN< double > *, long >(timesMany));
 }
+
 LOADFUNC(Load_Init)
