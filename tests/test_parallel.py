@@ -416,6 +416,19 @@ def test_a_process_that_crashes_alone_stops_the_run(tmp_path):
     assert seconds < 60
 
 
+def test_a_newton_failure_names_the_cell_as_the_serial_run_does(tmp_path):
+    """Test 1 as St Venant-Kirchhoff at v0y = -5 (make stress's case that breaks, Section 3's Newton): on 2 processes,
+    whose whole mesh is released before the time loop (body/release.idp), the Newton failure names the same inverted
+    triangle, det F and corner as the serial run, from the process that holds the cell; exit 4, one line each."""
+    args = ["-material", "svk", "-v0y", "-5", "-T", "20", "-snapshots", "none"] + QUIET
+    serial = run_scene("test1", tmp_path / "serial", args, check=False)
+    parallel, _ = run_group("test1", tmp_path / "np2", args + ["-np", "2"], {})
+    assert serial.returncode == 4 and len(error_lines(serial)) == 1, serial.stderr
+    assert parallel.returncode == 4 and len(error_lines(parallel)) == 1, parallel.stderr
+    assert "triangle 1798 inverted (det F = -0.13461 at (-1.74311, 0.076106))" in error_lines(serial)[0]
+    assert error_lines(parallel) == error_lines(serial)
+
+
 @pytest.mark.parametrize("n", [0, 2], ids=["serial", "np2"])
 def test_a_run_out_of_memory_under_a_limit_is_one_line(tmp_path, n):
     """A process that cannot allocate under a per-process memory limit (RLIMIT_DATA of 1 GiB: a test hook allocates
