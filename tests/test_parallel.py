@@ -153,10 +153,20 @@ def test_the_files_are_the_serial_ones_with_each_snapshot_in_pieces(runs, n):
     assert sorted(parallel) == sorted(expected)
     for f in ("parameters.txt", "mesh.mesh", "scene.idp", "foundation.csv"):
         assert serial[f] == parallel[f], f
-    for f in serial:        # the tables (process 0's, from the nodes and the reduced vertex averages): row for row
+    assert_tables_are_the_serial_ones(serial_dir, parallel_dir, serial)
+    listed = [[(t, os.path.basename(b), os.path.basename(f)) for t, b, f in series(d)] for d in (serial_dir, parallel_dir)]
+    assert listed[1] == [(t, b[:-4] + ".pvtu", f) for t, b, f in listed[0]]
+    for t in ("0", "10"):
+        assert_pieces_are_the_serial_vtu(serial_dir, parallel_dir, t)
+
+
+def assert_tables_are_the_serial_ones(serial_dir, parallel_dir, serial):
+    """Each snapshot table (process 0's, from the nodes and the reduced vertex averages) is the serial one row for row:
+    the coordinates exact, every value within the history's tolerance."""
+    for f in serial:
         if f.endswith(".csv") and f.startswith("snapshot"):
             header = serial[f].split(b"\n", 1)[0]
-            assert parallel[f].split(b"\n", 1)[0] == header, f
+            assert open(os.path.join(parallel_dir, f), "rb").read().split(b"\n", 1)[0] == header, f
             ours, theirs = (np.loadtxt(os.path.join(d, f), delimiter=",", skiprows=1) for d in (parallel_dir, serial_dir))
             assert ours.shape == theirs.shape, f
             for k, name in enumerate(header.decode().split(",")):
@@ -165,26 +175,43 @@ def test_the_files_are_the_serial_ones_with_each_snapshot_in_pieces(runs, n):
                 else:
                     tol = TOL["displacement" if name.startswith("u") else "strain"]
                     assert np.abs(ours[:, k] - theirs[:, k]).max() <= tol * max(np.abs(theirs[:, k]).max(), 1), (f, name)
-    listed = [[(t, os.path.basename(b), os.path.basename(f)) for t, b, f in series(d)] for d in (serial_dir, parallel_dir)]
-    assert listed[1] == [(t, b[:-4] + ".pvtu", f) for t, b, f in listed[0]]
-    for t in ("0", "10"):
-        whole = meshio.vtu.read(os.path.join(serial_dir, f"vonmises_t{t}.vtu"))
-        merged = read_vtu(os.path.join(parallel_dir, f"vonmises_t{t}.pvtu"))
-        assert {k: len(v) for k, v in merged.cells_dict.items()} == {k: len(v) for k, v in whole.cells_dict.items()}
-        at = {tuple(x): i for i, x in enumerate(whole.points)}
-        assert len(merged.points) == len(whole.points) and all(tuple(x) in at for x in merged.points)
-        same = np.array([at[tuple(x)] for x in merged.points])
-        for name, values in whole.point_data.items():
-            tol = TOL[{"displacement": "displacement", "contact_pressure": "contact"}.get(name, "strain")]
-            assert np.abs(merged.point_data[name] - values[same]).max() <= tol * max(np.abs(values).max(), 1), (t, name)
-        for kind in whole.cells_dict:       # cells by their sorted vertices
-            ours = np.sort(same[merged.cells_dict[kind]], axis=1)
-            theirs = np.sort(whole.cells_dict[kind], axis=1)
-            a, b = np.lexsort(ours.T[::-1]), np.lexsort(theirs.T[::-1])
-            assert np.array_equal(ours[a], theirs[b]), kind
-            for name in whole.cell_data_dict:
-                mine, want = merged.cell_data_dict[name][kind][a], whole.cell_data_dict[name][kind][b]
-                assert np.abs(mine - want).max() <= TOL["strain"] * max(np.abs(want).max(), 1), (t, kind, name)
+
+
+def assert_pieces_are_the_serial_vtu(serial_dir, parallel_dir, t):
+    """Merged, the pieces of vonmises_t<t>.pvtu are the serial vonmises_t<t>.vtu: the same cells and points, every
+    value within the history's tolerance."""
+    whole = meshio.vtu.read(os.path.join(serial_dir, f"vonmises_t{t}.vtu"))
+    merged = read_vtu(os.path.join(parallel_dir, f"vonmises_t{t}.pvtu"))
+    assert {k: len(v) for k, v in merged.cells_dict.items()} == {k: len(v) for k, v in whole.cells_dict.items()}
+    at = {tuple(x): i for i, x in enumerate(whole.points)}
+    assert len(merged.points) == len(whole.points) and all(tuple(x) in at for x in merged.points)
+    same = np.array([at[tuple(x)] for x in merged.points])
+    for name, values in whole.point_data.items():
+        tol = TOL[{"displacement": "displacement", "contact_pressure": "contact"}.get(name, "strain")]
+        assert np.abs(merged.point_data[name] - values[same]).max() <= tol * max(np.abs(values).max(), 1), (t, name)
+    for kind in whole.cells_dict:       # cells by their sorted vertices
+        ours = np.sort(same[merged.cells_dict[kind]], axis=1)
+        theirs = np.sort(whole.cells_dict[kind], axis=1)
+        a, b = np.lexsort(ours.T[::-1]), np.lexsort(theirs.T[::-1])
+        assert np.array_equal(ours[a], theirs[b]), kind
+        for name in whole.cell_data_dict:
+            mine, want = merged.cell_data_dict[name][kind][a], whole.cell_data_dict[name][kind][b]
+            assert np.abs(mine - want).max() <= TOL["strain"] * max(np.abs(want).max(), 1), (t, kind, name)
+
+
+def test_a_plane_p2_body_has_its_snapshots_in_pieces_too(tmp_path):
+    """The plane and P2 path of the pieces (io/snapshot_pieces.idp: each triangle split in four, the Radon points
+    located in the piece, the table in the serial output mesh's order): Test 1 with -order 2 on 2 processes writes the
+    serial run's tables row for row and, merged, its .vtu, before the impact (t = 0) and in contact (t = 12)."""
+    args = ["-order", "2", "-T", "12", "-solver", "activeset", "-snapshots", "0,12"] + QUIET
+    run_scene("test1", tmp_path / "serial", args)
+    run_scene("test1", tmp_path / "np2", args + ["-np", "2"])
+    serial_dir, parallel_dir = str(tmp_path / "serial"), str(tmp_path / "np2")
+    assert_tables_are_the_serial_ones(serial_dir, parallel_dir, files_of(serial_dir))
+    in_contact = meshio.vtu.read(os.path.join(serial_dir, "vonmises_t12.vtu")).point_data["contact_pressure"]
+    assert in_contact.max() > 1          # (alpha of (6): the body presses on the foundation at t = 12)
+    for t in ("0", "12"):
+        assert_pieces_are_the_serial_vtu(serial_dir, parallel_dir, t)
 
 
 def test_a_piece_that_cannot_be_written_stops_the_run_with_its_line(tmp_path, earlier_ball):
@@ -219,6 +246,26 @@ def test_a_snapshot_value_that_is_not_finite_stops_every_process(tmp_path, earli
     out = tmp_path / "out"
     p = run_scene("ball", out, args, check=False, env=env, timeout=120)
     assert p.returncode == 4 and error_lines(p) == [message + "; history.csv keeps every step up to this one"], p.stderr
+    assert sorted(f for f in os.listdir(out) if "_t" in f) == [
+        "foundation_t0.vtu", "snapshot_t0.csv", "vonmises_t0.pvtu", "vonmises_t0_0.vtu", "vonmises_t0_1.vtu"]
+
+
+def test_a_foundation_not_finite_under_the_body_stops_every_process_before_the_pieces(tmp_path):
+    """test_options.py's psi NaN beyond X1 = 31, on 2 processes: the disk moves right, and the foundation_t0.5.vtu under
+    it would reach X1 = 34. Every process checks psi there (the body's extent, reduced from the pieces, the same on
+    all), so every process stops (exit 4) before any file of that snapshot is written, a piece included (until
+    2026-11-28 process 0 stopped alone and process 1 had already moved vonmises_t0.5_1.vtu into OUT)."""
+    scene = tmp_path / "beyond.idp"
+    scene.write_text('foundation = "user";\nT = 1;\n'
+                     "macro userFoundationPsi(X1, t) (X1 > 31 ? sqrt(-1.) : -2.) // EOM\n"
+                     "macro userFoundationDpsi(X1, t) 0 // EOM\n")
+    out = tmp_path / "out"
+    p = run_scene(str(scene), out, ["-v0x", "4", "-snapshots", "0,0.5,1", "-solver", "activeset", "-np", "2"] + QUIET,
+                  check=False, timeout=120)
+    lines = error_lines(p)
+    assert p.returncode == 4 and len(lines) == 1, p.stderr
+    assert lines[0].startswith("error: userFoundationPsi is not finite at X1 = 31") and "t = 0.5, where foundation_t0.5.vtu" \
+        in lines[0] and lines[0].endswith("history.csv keeps every step up to this one"), lines[0]
     assert sorted(f for f in os.listdir(out) if "_t" in f) == [
         "foundation_t0.vtu", "snapshot_t0.csv", "vonmises_t0.pvtu", "vonmises_t0_0.vtu", "vonmises_t0_1.vtu"]
 
