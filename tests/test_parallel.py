@@ -339,6 +339,40 @@ def test_a_krylov_solve_that_does_not_converge_is_refused(tmp_path, earlier_ball
     assert not changed
 
 
+# The set-up's checks of ffddm's layout against the body (body/partition.idp, body/part_sums.idp, io/snapshot_pieces.idp):
+# only another FreeFEM would fail them, so a test hook (CONTACT_TEST_LAYOUT_FAULT) fails each in turn.
+# (check, whether it needs a snapshot, the line)
+LAYOUT_FAULTS = [
+    ("dofs", False, "error: ffddm's global space has 2001 dofs where the body's has 2001 (another FreeFEM version?); run "
+                    "without -np"),
+    ("numbering", False, "error: ffddm's subdomains do not number the body's dofs as the body does (another FreeFEM "
+                         "version?); run without -np"),
+    ("cells", False, "error: ffddm's subdomains do not cover the body's cells as expected (another FreeFEM version?); run "
+                     "without -np"),
+    ("components", False, "error: ffddm's subdomains do not hold every component of their nodes (another FreeFEM "
+                          "version?); run without -np"),
+    ("piece_cells", True, "error: the snapshot's pieces hold 2674 cells where the body has 2674 (another FreeFEM "
+                          "version?); run without -np"),
+    ("piece_nodes", True, "error: the snapshot's pieces do not name the body's nodes (another FreeFEM version?); run "
+                          "without -np"),
+    ("table_rows", True, "error: the snapshot table's rows do not name the body's nodes (another FreeFEM version?); run "
+                         "without -np"),
+]
+
+
+@pytest.mark.parametrize("check,snapshot,message", LAYOUT_FAULTS, ids=[c for c, _, _ in LAYOUT_FAULTS])
+def test_a_layout_that_does_not_match_the_body_is_one_line(tmp_path, earlier_ball, check, snapshot, message):
+    """Each set-up check of ffddm's subdomains against the body (the global space's size, its numbering of the dofs,
+    the cells covered, each node's components; a snapshot's pieces: their cells, their nodes, the table's rows), made
+    to fail by a test hook: exit 5 on every process before the first file, one line naming what does not match, the
+    earlier run byte-identical (docs/errors.md)."""
+    args = ["-T", "1", "-solver", "activeset", "-np", "2", "-snapshots", "0" if snapshot else "none"] + QUIET
+    p, changed = refused_into_copy(tmp_path, earlier_ball, "ball", args, env={"CONTACT_TEST_LAYOUT_FAULT": check},
+                                   timeout=120)
+    assert p.returncode == 5 and error_lines(p) == [message], p.stderr
+    assert not changed
+
+
 def test_a_plane_refusal_names_the_method(tmp_path):
     p = run_scene("test1", tmp_path / "out", ["-T", "1", "-contact", "nitsche", "-np", "2"] + QUIET, check=False,
                   timeout=120)
