@@ -351,6 +351,8 @@ LAYOUT_FAULTS = [
                      "without -np"),
     ("components", False, "error: ffddm's subdomains do not hold every component of their nodes (another FreeFEM "
                           "version?); run without -np"),
+    ("owners", False, "error: ffddm's partition of unity leaves a dof of the body to no process (another FreeFEM version?); "
+                      "run without -np"),
     ("piece_cells", True, "error: the snapshot's pieces hold 2674 cells where the body has 2674 (another FreeFEM "
                           "version?); run without -np"),
     ("piece_nodes", True, "error: the snapshot's pieces do not name the body's nodes (another FreeFEM version?); run "
@@ -363,7 +365,8 @@ LAYOUT_FAULTS = [
 @pytest.mark.parametrize("check,snapshot,message", LAYOUT_FAULTS, ids=[c for c, _, _ in LAYOUT_FAULTS])
 def test_a_layout_that_does_not_match_the_body_is_one_line(tmp_path, earlier_ball, check, snapshot, message):
     """Each set-up check of ffddm's subdomains against the body (the global space's size, its numbering of the dofs,
-    the cells covered, each node's components; a snapshot's pieces: their cells, their nodes, the table's rows), made
+    the cells covered, each node's components, each dof's owner; a snapshot's pieces: their cells, their nodes, the
+    table's rows), made
     to fail by a test hook: exit 5 on every process before the first file, one line naming what does not match, the
     earlier run byte-identical (docs/errors.md)."""
     args = ["-T", "1", "-solver", "activeset", "-np", "2", "-snapshots", "0" if snapshot else "none"] + QUIET
