@@ -50,7 +50,7 @@ EXACT = ["qp_solved", "active_nodes", "newton_iterations", "solver_status"]
 # toward 1e-15 for at most 10 iterations (solve/ffddm_solve.idp), and A, dominated by its mass term, is well
 # conditioned, so a solve is within about 1e-13 of the direct one; the impacts amplify that, as they amplify round-off
 # (-np 1, one subdomain solved directly, differs from the serial run by 1.3e-8 in ball_moving's velocity). Measured on
-# these runs (the largest over them, 2026-11-29, e05d171: L of (4) and the Newton systems on the parts): on 1 process
+# these runs (the largest over them, 2026-11-29, 60db16d: L of (4) and the Newton systems on the parts): on 1 process
 # displacement 8.6e-11, velocity 1.9e-8, energy 7.4e-12, contact 1.6e-8, angular momentum 3.6e-9, strain 1.4e-10 (all
 # ball_moving); on 2, 2.5e-10, 5.7e-8, 1.9e-11, 4.7e-8, 8.6e-9, 4.1e-10 (ball_moving); on 4, 9.9e-11, 2.2e-8, 7.4e-12,
 # 1.8e-8 (ball_moving), 7.2e-9 (test1), 1.6e-10 (ball_moving). The tolerances are 17 to 1200 times the largest of those.
