@@ -351,8 +351,8 @@ LAYOUT_FAULTS = [
                      "without -np"),
     ("components", False, "error: ffddm's subdomains do not hold every component of their nodes (another FreeFEM "
                           "version?); run without -np"),
-    ("owners", False, "error: ffddm's partition of unity leaves a dof of the body to no process (another FreeFEM version?); "
-                      "run without -np"),
+    ("owners", False, "error: ffddm's subdomains do not give each dof of the body an owner that every process holding it "
+                      "hears from (another FreeFEM version?); run without -np"),
     ("piece_cells", True, "error: the snapshot's pieces hold 2674 cells where the body has 2674 (another FreeFEM "
                           "version?); run without -np"),
     ("piece_nodes", True, "error: the snapshot's pieces do not name the body's nodes (another FreeFEM version?); run "
