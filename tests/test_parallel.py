@@ -298,6 +298,22 @@ def test_a_restart_with_another_number_of_processes_continues_the_run(runs, tmp_
         assert len(read_vtu(str(out / later)).cells_dict["tetra"]) == len(read_vtu(str(out / kept[0])).cells_dict["tetra"])
 
 
+def test_a_serial_checkpoint_continues_on_2_processes(runs, tmp_path):
+    """The serial run's checkpoint (t = 10, step 200; u and v whole) restarted on 2 processes, each of which takes its
+    part of u and v from it (io/restart.idp): the uninterrupted serial history to the Krylov tolerance, the same steps
+    with a QP, and the snapshots up to the checkpoint kept as the serial run wrote them."""
+    straight = read_run(runs["ball"])
+    out = tmp_path / "restart_np2"
+    run_scene("ball", out, ["-restart", runs["ball"], "-T", "14", "-snapshots", "0,10,12", "-np", "2"] + QUIET)
+    h = read_run(str(out))
+    assert len(h["t"]) == len(straight["t"]) and np.array_equal(h["qp_solved"], straight["qp_solved"])
+    found, _ = gaps(straight, h)
+    for group, gap in found.items():
+        assert gap <= TOL[group], f"{group}: {gap:.3g} > {TOL[group]:g}"
+    assert all(open(out / f, "rb").read() == open(os.path.join(runs["ball"], f), "rb").read()
+               for f in ("vonmises_t0.vtu", "vonmises_t10.vtu", "snapshot_t10.csv"))
+
+
 @pytest.fixture(scope="module")
 def earlier_ball(tmp_path_factory):
     out = tmp_path_factory.mktemp("earlier_np") / "run"
