@@ -50,16 +50,17 @@ EXACT = ["qp_solved", "active_nodes", "newton_iterations", "solver_status"]
 # toward 1e-15 for at most 10 iterations (solve/ffddm_solve.idp), and A, dominated by its mass term, is well
 # conditioned, so a solve is within about 1e-13 of the direct one; the impacts amplify that, as they amplify round-off
 # (-np 1, one subdomain solved directly, differs from the serial run by 1.3e-8 in ball_moving's velocity). Measured on
-# these runs (the largest over them, 2026-11-29, 60db16d: L of (4) and the Newton systems on the parts): on 1 process
-# displacement 8.6e-11, velocity 1.9e-8, energy 7.4e-12, contact 1.6e-8, angular momentum 3.6e-9, strain 1.4e-10 (all
-# ball_moving); on 2, 2.5e-10, 5.7e-8, 1.9e-11, 4.7e-8, 8.6e-9, 4.1e-10 (ball_moving); on 4, 9.9e-11, 2.2e-8, 7.4e-12,
-# 1.8e-8 (ball_moving), 7.2e-9 (test1), 1.6e-10 (ball_moving). The tolerances are 17 to 1200 times the largest of those.
+# these runs (the largest over them, 2026-11-29, d1ae8bc: the state and every vector of the step on the parts): on 1
+# process displacement 8.6e-11, velocity 1.9e-8, energy 7.4e-12, contact 1.6e-8, angular momentum 3.6e-9, strain 1.4e-10
+# (all ball_moving); on 2, 6.0e-11, 1.3e-8, 4.2e-12, 1.1e-8, 2.9e-9, 9.2e-11 (ball_moving); on 4, 5.5e-11, 1.2e-8,
+# 4.1e-12, 1.0e-8 (ball_moving), 7.3e-9 (test1), 9.0e-11 (ball_moving). The tolerances are 53 to 1370 times the largest
+# of those.
 # (Without the second GMRES, ball_moving on 4 processes differed by 1.1e-6 in the velocity.)
 TOL = {"displacement": 1e-8, "velocity": 1e-6, "energy": 1e-9, "contact": 1e-6, "angular momentum": 1e-5, "strain": 1e-8}
 # The lumped mass: its run amplifies round-off about 100 times more over the first impact than the consistent mass's
 # (-np 1, one subdomain solved directly, no Krylov tolerance involved, differs from the serial run by 2.2e-6 in the
 # angular momentum and 5.7e-7 in the contact force; with GMRES to 1e-14 on 2 processes the history is the same to
-# the bit, at 1e-12). Measured on 2 processes: 4.5e-11, 1.1e-8, 4.9e-11, 8.2e-8, 3.1e-7, 5.2e-10 (docs/parallel.md).
+# the bit, at 1e-12). Measured on 2 processes: 1.2e-10, 2.7e-8, 1.5e-10, 2.5e-7, 9.5e-7, 1.6e-9 (docs/parallel.md).
 TOL_LUMPED = {"displacement": 1e-8, "velocity": 1e-5, "energy": 1e-8, "contact": 1e-4, "angular momentum": 1e-4,
               "strain": 1e-7}
 
