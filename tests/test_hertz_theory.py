@@ -17,7 +17,7 @@ import hertz_analysis
 HEADER = ("step,t,u1_low,u2_low,u3_low,v3_low,contact_pressure_low,contact_force_z,contact_area,energy,modified_energy,"
           "active_nodes,max_penetration,qp_solved,solver_status,v1_mean,v2_mean,v3_mean,u3_mean,newton_iterations,"
           "angular_momentum_1,angular_momentum_2,angular_momentum_3,max_strain,max_penetration_outside,max_penetration_exact,"
-          "max_held_off_exact").split(",")
+          "max_held_off_exact,contact_force_x,contact_force_y").split(",")
 
 
 def impact(ratio=1e-3):
