@@ -7,7 +7,7 @@
 #   replaced only with FORCE=1 (or by its own restart); FreeFEM checks everything in OUT/.staging, then
 #   edp/lib/io/commit.sh moves its first files into OUT.
 # Exit statuses (docs/errors.md): 0 done, 1 unexpected FreeFEM error (a bug), 2 usage, 3 refused before the
-#   first step, 4 a step failed, 5 factorisation, 7 a write failed, 8 out of memory; 128 + N after signal N (SIGTERM, SIGINT,
+#   first step, 4 a step failed, 5 factorisation, 6 the run fails its own audit (a bug), 7 a write failed, 8 out of memory; 128 + N after signal N (SIGTERM, SIGINT,
 #   SIGHUP: run.sh stops FreeFEM first, then dies of the signal; one sent to FreeFEM itself is named).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -135,6 +135,9 @@ export FF_LOADPATH="/usr/lib/freefem++;.plugins"
   err "cannot create a symbolic link in $out (disk full, or a file system without links?)" 7
 export FF_INCLUDEPATH=".;.edp;/usr/include/freefem++/idp"
 export CONTACT_ROOT=$root CONTACT_CWD=$PWD CONTACT_SCENE=$scene_name CONTACT_RESTART=$restart_dir
+# -np N: a process's status line carries this run's own tag, so that a line a scene prints is never taken for one
+export CONTACT_STATUS_TAG=$(od -An -N6 -tx1 /dev/urandom 2>/dev/null | tr -d ' \n')
+[ -n "$CONTACT_STATUS_TAG" ] || CONTACT_STATUS_TAG=$$$RANDOM$RANDOM
 # compiled.idp: the one place of what FreeFEM compiles. contact.edp includes it three times: first the order,
 # the processes' file and the dimension's; then (once it defines compiledSectionSolves) the solves with A for
 # those processes and the dimension's kinematics; then (compiledSectionMaterial) the material's file for that
@@ -170,6 +173,26 @@ fi
 # the driver names what is wrong with it)
 dimension=2
 [ -r "$mesh_file" ] && awk -f "$here/lib/body/mesh_volumes.awk" "$mesh_file" 2>/dev/null && dimension=3
+# a restart continues the run's body: a -mesh of another dimension is refused here, by its name, before the driver
+# (compiled for that dimension) could trip over what the run's parameters.txt records
+if [ -n "$restart_dir" ]; then
+  run_dimension=2
+  [ -e "$restart_dir/mesh.mesh" ] && run_dimension=3
+  if [ "$dimension" != "$run_dimension" ]; then
+    run_mesh=$(sed -n 's/^-mesh //p' "$restart_dir/parameters.txt" | head -n 1)
+    err "-restart: -mesh $mesh_file (a ${dimension}D body) differs from the run's -mesh $run_mesh (a ${run_dimension}D body); a restart continues the same discrete problem and may change only -T and the output options"
+  fi
+fi
+# -np N: ffddm needs at least 50 mesh vertices a process (body/partition.idp says why, and checks it again on the mesh it
+# loads); checked here on the file's nodes, before mpirun starts any process
+if [ -n "$np" ] && [ "$np" -gt 1 ] && [ -r "$mesh_file" ]; then
+  mesh_nodes=$(awk '{ sub(/\r$/, "") } /^\$Nodes$/ { getline; sub(/\r$/, ""); print (NF >= 2 ? $2 : $1); exit }' "$mesh_file" 2>/dev/null)
+  if [[ "$mesh_nodes" =~ ^[0-9]{1,12}$ ]] && (( mesh_nodes < 50 * np )); then
+    advice="run it without -np"
+    (( mesh_nodes >= 100 )) && advice="use -np $((mesh_nodes / 50)) or fewer"
+    err "-np $np needs at least 50 mesh vertices per process (ffddm's subdomains and their overlap), and the mesh $mesh_file has $mesh_nodes: $advice"
+  fi
+fi
 # the materials: edp/lib/material/materials.txt, one line each (NAME, then how this error names it);
 # -material NAME is edp/lib/material/NAME.idp
 materials=$here/lib/material/materials.txt
@@ -193,7 +216,7 @@ processes=serial
 [ -f "$root/build/plugins/cholmod_columns.so" ] ||
   err "$root/build/plugins/cholmod_columns.so is missing: build it with 'make plugins' (it needs g++ and libsuitesparse-dev; 'make deps' installs them)" 1
 write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
-# IPOPT reads ipopt.opt from its working directory
+# IPOPT reads ipopt.opt from its working directory (the driver removes it when the run's -solver is not ipopt)
 cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7
 
 # ---- FreeFEM, in the staging directory (io/commit.sh moves it on into OUT)
@@ -258,7 +281,7 @@ stop_freefem() {
 }
 for sig in TERM INT HUP; do trap "stop_freefem $sig" $sig; done
 # (awk -v reads a '\' as the start of an escape: the scene's path has each doubled)
-{ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) \
+{ run_freefem 2>&1 | tee "$raw" | awk "${awk_lines[@]}" -v tty=$tty -v tagged=$([ -n "$np" ] && echo 1 || echo 0) -v statustag="$CONTACT_STATUS_TAG" \
     -v scene="${scene_file//\\/\\\\}" -v errfile="$errfile" -f "$here/lib/run/output_filter.awk"
   echo "${PIPESTATUS[@]}" > "$errfile.status"; } &
 pipeline=$!
@@ -376,6 +399,25 @@ if [ "$exit_status" = 0 ] && { [ ! -e "$stage/.committed" ] || [ ! -s "$out/summ
   echo "error: FreeFEM stopped without an error but before the run reached T (no summary.txt), $where; if the scene is" \
        "your own, check that it does not call exit()" >&2
   exit_status=1
+fi
+# A run that reached T is audited by its own physics (postprocess/audit.py, pure Python, tens of milliseconds: the
+# documented columns, the time grid against parameters.txt and summary.txt, the momentum balance of (1) against the
+# contact force columns, Prop. 2 where it applies, friction's law in totals, the snapshots against the history).
+# A failure is a bug in the suite: exit 6, every file kept (CONTACT_AUDIT=0 skips the audit).
+if [ "$exit_status" = 0 ] && [ "${CONTACT_AUDIT:-1}" != 0 ]; then
+  audit_python=/usr/bin/python3
+  [ -x "$audit_python" ] || audit_python=$(command -v python3 || true)
+  if [ -n "$audit_python" ]; then
+    audit_lines=$("$audit_python" "$root/postprocess/audit.py" "$out" 2>&1)
+    audit_rc=$?
+    if [ "$audit_rc" != 0 ]; then
+      [ -n "$audit_lines" ] && printf '%s\n' "$audit_lines" | sed -n '1,20p' >&2
+      echo "error: the run reached T, but its files fail their own audit (postprocess/audit.py, the lines above:" \
+           "$(printf '%s\n' "$audit_lines" | grep -c '^audit:') of them): a bug in the suite, please report it;" \
+           "every file of $out_arg is kept" >&2
+      exit_status=6
+    fi
+  fi
 fi
 case "$exit_status" in 7 | 8 | 129 | 130 | 137 | 143) keep_complete_rows ;; esac
 settle_kept "$exit_status"

@@ -5,6 +5,8 @@ import re
 
 import numpy as np
 
+from keyed import read_keyed  # noqa: F401  (summary.txt, parameters.txt: history.read_keyed)
+
 
 def read_csv(path):
     """A headed CSV as a dict of float arrays (lines starting with # are skipped; an empty cell, a value not
@@ -21,15 +23,6 @@ def read_run(run_dir):
     return read_csv(os.path.join(run_dir, "history.csv"))
 
 
-def read_keyed(path):
-    """A file of "key value" lines (a run's summary.txt or parameters.txt) as a dict of strings."""
-    out = {}
-    with open(path) as f:
-        for line in f:
-            parts = line.split(None, 1)
-            if len(parts) == 2:
-                out[parts[0]] = parts[1].strip()
-    return out
 
 
 def read_summary(run_dir):
