@@ -19,9 +19,10 @@ ifneq ($(strip $(words $(JOBS)) $(JOBS_NOT_DIGITS) $(if $(subst 0,,$(strip $(JOB
 $(error JOBS must be a positive integer (runs at a time of make svk, methods, csm3 and hertz), got '$(JOBS)')
 endif
 endif
-# processes of each run in make run, ball, accuracy, stress, svk, methods, csm3 and hertz (NP=N: edp/run.sh -np N); when
-# given, what run.sh -np takes (1 to 1024, at most 4 digits), checked like JOBS before anything is built or removed
-ifneq ($(filter run ball accuracy stress svk methods csm3 hertz,$(MAKECMDGOALS)),)
+# processes of each run in make run, ball, accuracy, stress, svk, methods, csm3, hertz and sliding (NP=N: edp/run.sh -np N); when
+# given, to any goal, what run.sh -np takes (1 to 1024, at most 4 digits), checked like JOBS before anything is built
+# or removed (a goal that does not use it says so below, but a value it could never take is refused all the same)
+ifneq ($(filter command line environment%,$(origin NP)),)
 ifneq ($(NP),)
 ifneq ($(shell n='$(subst ','\'',$(NP))'; [[ $$n =~ ^[0-9]{1,4}$$ ]] && (( 10#$$n >= 1 && 10#$$n <= 1024 )) && echo ok),ok)
 $(error NP must be a whole number of processes per run from 1 to 1024 (edp/run.sh -np N), got '$(NP)')
@@ -37,6 +38,7 @@ GOALS := $(or $(MAKECMDGOALS),all)
 ifneq ($(NP_GIVEN),)
 $(foreach g,$(filter test1 test2 paper all figures,$(GOALS)),$(info note: make $(g) runs serially: the paper's runs use -solver ipopt, which does not run on -np (docs/parallel.md); NP=$(NP) is not used))
 $(foreach g,$(filter bench,$(GOALS)),$(info note: make bench runs its cases serially and on 1, 2 and 4 processes itself (docs/parallel.md); NP=$(NP) is not used))
+$(foreach g,$(filter friction,$(GOALS)),$(info note: make friction runs its cases serially: every one has -friction, which does not run on -np (docs/parallel.md); NP=$(NP) is not used))
 $(foreach g,$(filter animation check,$(GOALS)),$(info note: make $(g) starts no run of its own; NP=$(NP) is not used))
 endif
 ifneq ($(JOBS_GIVEN),)
@@ -108,6 +110,7 @@ deps-plot: deps-run
 deps-test: deps-plot
 	$(call install_missing, \
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest"; \
+	$(PYTHON) -c 'import hypothesis' 2>/dev/null || missing="$$missing python3-hypothesis"; \
 	command -v mpirun >/dev/null || missing="$$missing openmpi-bin";)
 deps: deps-test
 
@@ -268,11 +271,11 @@ friction: meshes meshes/hertz_coarse.msh | deps-plot
 # ---- the exact gap against the bowl's closed-form periods, and (10)'s error on the paper's tests
 # (postprocess/sliding.py, docs/sliding.md); results/sliding/summary.md
 sliding: meshes | deps-plot
-	$(PYTHON) postprocess/sliding.py --out $(RESULTS)/sliding --jobs $(JOBS)
+	$(PYTHON) postprocess/sliding.py --out $(RESULTS)/sliding --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- every scene with the first line of its comment
 scenes:
 	@for f in edp/scenes/*.idp; do printf '%-12s %s\n' "$$(basename $$f .idp)" "$$(head -1 $$f | sed 's|^// *||')"; done
 
 clean:
-	rm -rf $(RESULTS) meshes/*.msh build tests/__pycache__ .pytest_cache
+	rm -rf $(RESULTS) meshes/*.msh build tests/__pycache__ .pytest_cache .hypothesis

@@ -15,7 +15,8 @@ of the mean velocity, and P is the least-squares slope of their times against k 
 The paper's scenes: Test 1 and Test 2 (t1 = 18, 22, 26), under (10), with the largest max_penetration_exact and
 max_held_off_exact of their histories: how far (10) is from the true foundation there (solved by the active set,
 whose pressed nodes are exact: IPOPT at -tol leaves small multipliers on nodes above the foundation).
---only runs the cases it names; the summary covers every case of OUT that has a history.
+--only runs the cases it names; the summary covers every case of OUT that has a history. --np N (make sliding NP=N)
+runs each case on N processes; one that -np refuses (the rolling bodies' friction) runs on one, with a note.
 Writes OUT/summary.md, OUT/sliding.csv and OUT/sliding.png/.pdf (the disk's and the ball's centres); each run in OUT/<case>/. A run that fails stops the
 study with one `error:` line and exit status 1.
 """
@@ -163,7 +164,9 @@ def main():
     ap.add_argument("--out", default="results/sliding")
     ap.add_argument("--jobs", type=jobs.positive_int, default=2)
     ap.add_argument("--only", default="", help="the cases to run, separated by semicolons (default: all)")
+    jobs.add_processes_option(ap)
     a = ap.parse_args()
+    jobs.use_processes(a.np)
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
     jobs.stop_on_interrupt("make sliding", out, ["summary.md", "sliding.csv", "*.png", "*.pdf"])

@@ -445,8 +445,8 @@ def test_boundary_outside_gamma_c_below_the_foundation_at_the_start_is_refused(t
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-contact_label", "2", "-u0y", "-10", "-T", "1",
                                                                     "-progress", "0"])
     assert p.returncode == 3 and error_lines(p) == [
-        "error: the initial state puts the boundary vertex (0, 0), which is not on Gamma_C (label 2), 10 below the foundation; "
-        "only Gamma_C is constrained: raise -u0y, lower the foundation, or give that boundary the label of Gamma_C "
+        "error: the initial state puts the boundary vertex (0, 0), which is not on Gamma_C (label 2), 10 below the foundation "
+        "(the body placed by -u0x 0, -u0y -10; -foundation flat, -level 0, -angle 0); only Gamma_C is constrained: raise -u0y, lower the foundation, or give that boundary the label of Gamma_C "
         "(-contact_label)"], p.stderr
     assert not changed
 

@@ -10,6 +10,27 @@
 # found tetrahedra in it): triangles are the boundary's faces, and the body is its 4-node
 # tetrahedra (type 4), each with a positive volume, every node in one.
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
+# an edge's (a face's) key from its sorted node ids: a number while it stays exact in double precision (awk indexes
+# numbers faster than strings), else a string; keyNodes and keyBase are set from $Nodes
+function edgeKey(a, b,   t) {
+  a += 0; b += 0
+  if (a > b) { t = a; a = b; b = t }
+  return numericKeys ? a * keyBase + b : a " " b
+}
+function faceKey(a, b, c,   t) {
+  a += 0; b += 0; c += 0
+  if (a > b) { t = a; a = b; b = t }
+  if (b > c) { t = b; b = c; c = t }
+  if (a > b) { t = a; a = b; b = t }
+  return numericKeys ? (a * keyBase + b) * keyBase + c : a " " b " " c
+}
+function keyCorners(key, corner) {      # the sorted node ids of a key, into corner[1..]; their count
+  if (!numericKeys) return split(key, corner, " ")
+  if (dimension == 3) { corner[3] = key % keyBase; key = (key - corner[3]) / keyBase }
+  corner[2] = key % keyBase; corner[1] = (key - corner[2]) / keyBase
+  return (dimension == 3) ? 3 : 2
+}
+function point(k) { return "(" X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")" }
 BEGIN {
   section = ""
   if ((getline first < ARGV[1]) < 0) fail("file missing or unreadable")
@@ -54,6 +75,8 @@ section == "Nodes" {
   if (!isfinite($2) || !isfinite($3)) fail("node " $1 " has a coordinate that is not a finite number")
   if ($1 in X) fail("node " $1 " is defined twice")
   X[$1] = $2 + 0; Y[$1] = $3 + 0; Z[$1] = $4 + 0; read++; nodeId[++nNodes] = $1
+  if ($1 + 1 > keyBase) keyBase = $1 + 1
+  numericKeys = (dimension == 3 ? keyBase ^ 3 : keyBase ^ 2) < 2 ^ 52
   if (!isfinite($4)) fail("node " $1 " has a coordinate that is not a finite number")
   if (read == 1 || $4 + 0 < zmin) zmin = $4 + 0
   if (read == 1 || $4 + 0 > zmax) zmax = $4 + 0
@@ -75,6 +98,9 @@ section == "Elements" {
   if (NF != 3 + ntags + nodes) fail("element " $1 " (line " NR ") has " NF " fields, its type and tags need " 3 + ntags + nodes)
   for (i = NF - nodes + 1; i <= NF; i++) if (!($i in X)) fail("element " $1 " uses node " $i ", which $Nodes does not define")
   if (type == 15) { pointElement[$NF] = $1; pointPhysical[$NF] = (ntags >= 1) ? $4 + 0 : 0 }
+  # the labelled boundary: a line's edge (2D), a triangle's face (3D), by its sorted nodes
+  if (type == 1 && dimension != 3) labelled[edgeKey($(NF - 1), $NF)] = 1
+  if (type == 2 && dimension == 3) labelled[faceKey($(NF - 2), $(NF - 1), $NF)] = 1
   if (type == 4) {
     a = $(NF - 3); b = $(NF - 2); c = $(NF - 1); d = $NF
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1; inTriangle[d] = 1
@@ -83,6 +109,7 @@ section == "Elements" {
     volume = (ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx)) / 6
     scale = (ux^2 + uy^2 + uz^2 + vx^2 + vy^2 + vz^2 + wx^2 + wy^2 + wz^2)^1.5
     if (!(volume > 1e-12 * scale)) fail("tetrahedron " $1 " is inverted or degenerate (volume " volume ")")
+    faces[faceKey(a, b, c)]++; faces[faceKey(a, b, d)]++; faces[faceKey(a, c, d)]++; faces[faceKey(b, c, d)]++
     triangles++; read++; next
   }
   if (type == 2 && dimension == 3) { read++; next }
@@ -92,6 +119,7 @@ section == "Elements" {
     area = ((X[b] - X[a]) * (Y[c] - Y[a]) - (X[c] - X[a]) * (Y[b] - Y[a])) / 2
     scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
     if (area < 0 && !firstInverted) { firstInverted = $1; firstInvertedArea = area }
+    edges[edgeKey(a, b)]++; edges[edgeKey(b, c)]++; edges[edgeKey(c, a)]++
     if (area < 0) { inverted++; triangles++; read++; next }
     if (!(area > 1e-12 * scale)) fail("triangle " $1 " is degenerate (area " area ")")
     if (area < 1e-8) fail("triangle " $1 " has an area of " area ", below the 1e-8 that FreeFEM's gmshload accepts; scale the mesh up")
@@ -118,6 +146,16 @@ END {
   if (dimension != 3 && zmax - zmin > 1e-9 * size)
     fail("its nodes span z from " zmin " to " zmax ", not one plane, and it has no tetrahedra: a plane body needs its nodes in one plane (gmsh -2 of a plane geometry), a 3D body a Volume meshed into tetrahedra (gmsh -3)")
   groups = (dimension == 3) ? "Physical Volume and Physical Surface" : "Physical Surface and Physical Curve"
+  # every boundary edge (3D: face) carries a physical label (docs/geometry.md): one without would take a label FreeFEM
+  # guesses (and a saved mesh that does not match the run's)
+  split("", missing); unlabelled = 0; boundary = 0
+  if (dimension == 3) { for (key in faces) if (faces[key] == 1) { boundary++; if (!(key in labelled)) { unlabelled++; first = key } } }
+  else for (key in edges) if (edges[key] == 1) { boundary++; if (!(key in labelled)) { unlabelled++; first = key } }
+  if (unlabelled) {
+    n = keyCorners(first, corner)
+    where = (n == 3) ? "face " point(corner[1]) ", " point(corner[2]) ", " point(corner[3]) : "edge from " point(corner[1]) " to " point(corner[2])
+    fail(unlabelled " of the " boundary " boundary " ((dimension == 3) ? "faces" : "edges") " carry no " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " label, such as the " where ": every boundary " ((dimension == 3) ? "face" : "edge") " needs one (Gamma_C's, Gamma_D's or a traction-free label: docs/geometry.md); add them to the .geo's " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " lines")
+  }
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
     at = "(at " X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")"
     if ((k in pointElement) && pointPhysical[k] == 0) fail("node " k " " at " is a geometric point in no physical group (element " pointElement[k] ", e.g. an arc's centre) and in no " cell ": the .geo defines no Physical groups, so gmsh saved every entity; add " groups " lines to it")

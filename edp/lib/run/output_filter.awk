@@ -5,9 +5,10 @@
 # the run that cannot be opened for writing is a write failure (exit 7). On a terminal (tty=1) the
 # progress line is rewritten in place; in a log every 10th is kept, and one a minute at least.
 # -np N (tagged=1): of the lines mpirun tags "[1,r]<stdout>:", process 0's are kept (every process runs the
-# same checks), and from any process its "exit-status N" line (run/options.idp) and FreeFEM's error traces,
+# same checks), and from any process its "exit-status TAG N" line (run/options.idp; TAG the run's own, statustag, so
+# that no line a scene prints is taken for one) and FreeFEM's error traces,
 # the first written to ERRFILE.stop for edp/run.sh to stop the other processes.
-# Variables: tty, tagged, scene (the scene file's path, for the error line), errfile (the detail of an
+# Variables: tty, tagged, statustag, scene (the scene file's path, for the error line), errfile (the detail of an
 # unexpected error is written there).
 
 # trace: FreeFEM's error traces, and mpirun's report of a process that died (any process's stops a -np run)
@@ -17,7 +18,7 @@ function stop(why) { if (!stopped) { print why > (errfile ".stop"); close(errfil
 tagged { rank = -1
          if (match($0, /^\[[0-9]+,[0-9]+\]<std(out|err)>:/)) { tag = substr($0, 1, RLENGTH); sub(/^\[[0-9]+,/, "", tag)
                                                                 rank = tag + 0; $0 = substr($0, RLENGTH + 1) } }
-tagged && /^exit-status [0-9]+$/ { stop($2); next }
+tagged && NF == 3 && $1 == "exit-status" && $2 == statustag && $3 ~ /^[0-9]+$/ { stop($3); next }
 tagged && rank != 0 {     # (rank -1: a line of mpirun itself; a process's own error line, shown if process 0 has none:
                           # a failure of that process alone, such as writing its piece of a snapshot)
   if (/^error: / && other_error == "") other_error = $0
