@@ -39,12 +39,13 @@ ifneq ($(NP_GIVEN),)
 $(foreach g,$(filter test1 test2 paper all figures,$(GOALS)),$(info note: make $(g) runs serially: the paper's runs use -solver ipopt, which does not run on -np (docs/parallel.md); NP=$(NP) is not used))
 $(foreach g,$(filter bench,$(GOALS)),$(info note: make bench runs its cases serially and on 1, 2 and 4 processes itself (docs/parallel.md); NP=$(NP) is not used))
 $(foreach g,$(filter friction,$(GOALS)),$(info note: make friction runs its cases serially: every one has -friction, which does not run on -np (docs/parallel.md); NP=$(NP) is not used))
+$(foreach g,$(filter hostile,$(GOALS)),$(info note: make hostile runs its cases as it draws them, -np among their options; NP=$(NP) is not used))
 $(foreach g,$(filter animation check,$(GOALS)),$(info note: make $(g) starts no run of its own; NP=$(NP) is not used))
 endif
 ifneq ($(JOBS_GIVEN),)
 $(foreach g,$(filter accuracy stress bench,$(GOALS)),$(info note: make $(g) times its runs, so it runs them one at a time; JOBS=$(JOBS) is not used))
 $(foreach g,$(filter test1 test2 ball paper all figures,$(GOALS)),$(info note: make $(g)'s runs are make's own rules: make -j $(JOBS) $(g) runs $(JOBS) at a time; JOBS=$(JOBS) is not used))
-$(foreach g,$(filter run animation check,$(GOALS)),$(info note: make $(g) runs one thing at a time; JOBS=$(JOBS) is not used))
+$(foreach g,$(filter run animation check hostile,$(GOALS)),$(info note: make $(g) runs one thing at a time; JOBS=$(JOBS) is not used))
 endif
 
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*/*.idp edp/lib/*/*.awk edp/lib/*/*.sh edp/lib/*/*.txt edp/lib/*/*.opt)
@@ -52,7 +53,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh
 
-.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check same-results bench accuracy stress svk csm3 hertz methods friction sliding scenes clean
+.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check hostile same-results bench accuracy stress svk csm3 hertz methods friction sliding scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -227,6 +228,12 @@ figures: test1 test2 | deps-plot
 # ---- tests
 check: meshes | deps-test
 	$(PYTHON) -m pytest -q --durations=15 tests
+
+# the hostile test with fresh seeds for MINUTES (30) (tests/hostile.py, docs/tests.md): it prints the shrunk
+# counterexamples of any case that breaks the suite's contract
+MINUTES ?= 30
+hostile: meshes | deps-test
+	$(PYTHON) tests/hostile.py --minutes $(MINUTES)
 
 # a change that must move no number (a refactor): 23 representative runs byte-identical to REV (default HEAD)
 same-results: meshes | deps-run
