@@ -18,14 +18,18 @@ them; a failure names the check, the column, the step and the size of the differ
   friction   D never decreases; Coulomb |T| <= F N and Tresca |T| <= g |Gamma_C| in totals, in the foundation's
              frame where it is flat (tilted or not)
   snapshots  a snapshot_t<t>.csv for every snapshot time up to the last row, its displacement at the reference
-             point the history's u1_low, u2_low (3D: and u3_low) at that time
+             point the history's u1_low, u2_low (3D: and u3_low) at that time; its .vtu's pressed, sticking and
+             slipping nodes the history's active_nodes, stick_nodes, slip_nodes (serial, P1)
 
 Exit status: 0 every check passes; 1 a check fails (one line each, `audit: RUN: ...`); 2 a run's files cannot be
 read. Pure Python (no numpy), so that edp/run.sh can afford it after every run.
 """
+import base64
 import csv
 import math
 import os
+import re
+import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -71,6 +75,17 @@ def read_history(path):
                     raise Failure(f"history.csv: column {name} at row {k + 1} is not a number: {cell!r}")
             rows.append(values)
     return header, rows
+
+
+def vtu_array(text, name):
+    """A Float64 point or cell array of a VTK XML file that FreeFEM's savevtk wrote (binary: base64 of a UInt32 byte
+    count and the little-endian values), or None."""
+    m = re.search(r'<DataArray[^>]*Name="%s"[^>]*format="binary"[^>]*>\s*([^<]*)<' % name, text)
+    if not m or 'type="Float64"' not in m.group(0):
+        return None
+    raw = base64.b64decode(m.group(1).strip())
+    size = struct.unpack("<I", raw[:4])[0]
+    return struct.unpack("<%dd" % (size // 8), raw[4:4 + size])
 
 
 def mesh_measures(run):
@@ -418,6 +433,26 @@ class Run:
                     self.fail("snapshots", f"snapshot_t{text}.csv gives {name.split('_')[0]} = {value:.12g} at the reference "
                                            f"point, history.csv {due:.12g} at {self.at(n)} (differs by {abs(value - due):.3g})")
             del coords, disp
+            self.check_snapshot_counts(text, n)
+
+    def check_snapshot_counts(self, text, n):
+        """The snapshot's .vtu (serial, P1) against the history's counts at that step: the nodes with a contact pressure
+        above 1e-6 (active_nodes), and with friction those that stick and slip (contact_state 1 and 2)."""
+        path = os.path.join(self.path, f"vonmises_t{text}.vtu")
+        if not os.path.exists(path) or self.p.get("order", "1") != "1":
+            return
+        vtu = open(path).read()
+        counts = [("active_nodes", "contact_pressure", lambda x: x > 1e-6)]
+        if "slip_nodes" in self.header:
+            counts += [("slip_nodes", "contact_state", lambda x: x == 2), ("stick_nodes", "contact_state", lambda x: x == 1)]
+        for column, field, chosen in counts:
+            values = vtu_array(vtu, field)
+            if values is None:
+                continue
+            got, due = sum(1 for x in values if chosen(x)), self.rows[n][self.header.index(column)]
+            if got != due:
+                self.fail("snapshots", f"vonmises_t{text}.vtu has {got} nodes of Gamma_C counted as {column} counts them "
+                                       f"({field}), history.csv {due:.0f} at {self.at(n)}")
 
     def audit(self):
         self.check_columns()

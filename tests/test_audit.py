@@ -17,7 +17,7 @@ from conftest import ROOT, error_lines, run_scene
 sys.path.insert(0, os.path.join(ROOT, "postprocess"))
 import audit  # noqa: E402
 
-QUIET = ["-progress", "0", "-vtk", "0"]
+QUIET = ["-progress", "0", "-vtk", "0", "-snapshots", "none"]
 
 
 @pytest.fixture(scope="module")
@@ -25,11 +25,11 @@ def audited(tmp_path_factory):
     """Two small runs that every check reads: Test 1 through its first contact (the active set, snapshots at 10 and
     12), and the disk sliding with Coulomb's friction on the 30 degree incline (the columns' vertical friction)."""
     base = tmp_path_factory.mktemp("audited")
-    runs = {"contact": ("test1", ["-T", "12", "-solver", "activeset", "-snapshots", "10,12"]),
+    runs = {"contact": ("test1", ["-T", "12", "-solver", "activeset", "-snapshots", "10,12", "-vtk", "0"]),
             "friction": ("incline", ["-angle", "30", "-T", "4", "-friction", "coulomb", "-friction_coefficient", "0.1",
-                                     "-snapshots", "none"])}
+                                     "-snapshots", "2,4"])}
     for name, (scene, args) in runs.items():
-        run_scene(scene, base / name, args + QUIET)
+        run_scene(scene, base / name, ["-progress", "0"] + args)
     return {name: base / name for name in runs}
 
 
@@ -84,6 +84,21 @@ def test_the_friction_columns_fail_the_audit_when_doctored(audited, tmp_path, co
     assert any(f.startswith(check + ":") for f in failures), failures
 
 
+@pytest.mark.parametrize("column", ["slip_nodes", "active_nodes"])
+def test_a_count_that_disagrees_with_the_snapshot_fails_the_audit(audited, tmp_path, column):
+    """The snapshot's .vtu at t = 4 counts the pressed and the slipping nodes (contact_pressure, contact_state): the
+    history's count one more at that step fails."""
+    run = doctored(tmp_path, audited["friction"], column, 80, factor=1)
+    path = run / "history.csv"
+    rows = list(csv.reader(open(path, newline="")))
+    k = rows[0].index(column)
+    rows[81][k] = str(int(float(rows[81][k])) + 1)
+    with open(path, "w", newline="") as f:
+        csv.writer(f, lineterminator="\n").writerows(rows)
+    assert any(f.startswith(f"snapshots: vonmises_t4.vtu has ") and f"as {column} counts them" in f
+               for f in audit.audit_run(str(run))), audit.audit_run(str(run))
+
+
 def test_coulomb_is_read_in_the_slope_frame(audited, tmp_path):
     """|T| <= F N in totals, in the frame of the tilted flat: the tangential force scaled up by 5% (the normal one
     kept) exceeds F N where the disk slides, and the audit names it."""
@@ -131,7 +146,7 @@ def test_a_run_whose_files_fail_the_audit_exits_6_and_keeps_them(tmp_path):
     """edp/run.sh audits the run it finished: one whose contact_force_y is written 1% off (a test-only fault) exits 6
     with the audit's line naming the column, and one error line; every file is kept."""
     out = tmp_path / "faulty"
-    p = run_scene("test1", out, ["-T", "10", "-solver", "activeset", "-snapshots", "none"] + QUIET, check=False,
+    p = run_scene("test1", out, ["-T", "10", "-solver", "activeset"] + QUIET, check=False,
                   env={"CONTACT_TEST_FORCE_SCALE": "1.01"})
     assert p.returncode == 6, p.stderr
     assert any(line.startswith(f"audit: {out}: momentum: contact_force_y is ") for line in p.stderr.splitlines())
