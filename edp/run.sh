@@ -410,11 +410,15 @@ if [ "$exit_status" = 0 ] && [ "${CONTACT_AUDIT:-1}" != 0 ]; then
   if [ -n "$audit_python" ]; then
     audit_lines=$("$audit_python" "$root/postprocess/audit.py" "$out" 2>&1)
     audit_rc=$?
-    if [ "$audit_rc" != 0 ]; then
-      [ -n "$audit_lines" ] && printf '%s\n' "$audit_lines" | sed -n '1,20p' >&2
+    if [ "$audit_rc" = 1 ]; then
+      printf '%s\n' "$audit_lines" | sed -n '1,20p' >&2
       echo "error: the run reached T, but its files fail their own audit (postprocess/audit.py, the lines above:" \
            "$(printf '%s\n' "$audit_lines" | grep -c '^audit:') of them): a bug in the suite, please report it;" \
            "every file of $out_arg is kept" >&2
+      exit_status=6
+    elif [ "$audit_rc" != 0 ]; then
+      echo "error: the run reached T, but postprocess/audit.py could not audit it ($(printf '%s' "$audit_lines" | head -c 200)):" \
+           "a bug in the suite, please report it; every file of $out_arg is kept" >&2
       exit_status=6
     fi
   fi

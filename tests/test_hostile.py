@@ -41,7 +41,7 @@ QUIET = ["-progress", "0"]
 BASE = {"-T": "0.2", "-max_steps": "400", "-mesh": COARSE}
 SIGNALLED = {-signal.SIGTERM, -signal.SIGINT, -signal.SIGHUP}
 DOCUMENTED = {0, 3, 4, 5, 7, 8}
-EXAMPLES = int(os.environ.get("HOSTILE_EXAMPLES", "110"))
+EXAMPLES = int(os.environ.get("HOSTILE_EXAMPLES", "200"))
 SEED = int(os.environ.get("HOSTILE_SEED", "20261207"))
 TIMEOUT = 40            # seconds a case may run before it is sent SIGTERM (a slow case is no failure: its signal is)
 
@@ -408,14 +408,12 @@ def test_ipopt_failure_names_its_status_and_the_exact_solver(tmp_path):
 
 def test_the_linearised_gap_is_watched_against_the_true_foundation(tmp_path):
     """Under the paper's (10), Gamma_C can sink below the true psi where it is curved (max_penetration_exact reached
-    7.1% of the body's size with exit 0): beyond 5% the run stops (exit 4), beyond 1% it ends with a warning; -gap
-    exact keeps the same run on psi."""
-    base = ["-gap", "linearised", "-bowl_radius", "30", "-mesh", COARSE] + QUIET
-    p = run_scene("bowl", tmp_path / "stop", base + ["-bowl_start", "60", "-T", "40"], check=False)
-    assert p.returncode == 4 and error_lines(p)[0].startswith("error: Gamma_C went ") and \
-        "use -gap exact, which imposes the true gap" in error_lines(p)[0], p.stderr
-    p = run_scene("bowl", tmp_path / "warn", base + ["-T", "40"])
-    assert any(line.startswith("warning: Gamma_C went ") for line in p.stderr.splitlines()), p.stderr
+    7.1% of the body's size with exit 0 and no word): beyond 1% the run ends with a warning naming it (it is (10)'s own
+    error, which make sliding measures: no stop); -gap exact keeps the same run on psi."""
+    p = run_scene("bowl", tmp_path / "warn", ["-gap", "linearised", "-bowl_radius", "30", "-bowl_start", "60", "-T", "40",
+                                              "-mesh", COARSE] + QUIET)
+    assert any(line.startswith("warning: Gamma_C went 2.8") and "7% of the body's size 40, though (10) holds" in line
+               for line in p.stderr.splitlines()), p.stderr
     run_scene("bowl", tmp_path / "exact", ["-gap", "exact", "-bowl_radius", "30", "-bowl_start", "60", "-T", "10",
                                            "-mesh", COARSE] + QUIET)
 

@@ -269,6 +269,7 @@ def test_a_run_compiles_only_its_material(tmp_path):
     shutil.copytree(os.path.join(ROOT, "edp"), tmp_path / "edp")
     os.symlink(os.path.join(ROOT, "meshes"), tmp_path / "meshes")
     os.symlink(os.path.join(ROOT, "build"), tmp_path / "build")      # (the serial solves' plugin)
+    os.symlink(os.path.join(ROOT, "postprocess"), tmp_path / "postprocess")      # (the audit, edp/run.sh's last step)
     lib = tmp_path / "edp" / "lib"
     for material, others in [("linear", ["material/svk.idp", "material/neohookean.idp", "solve/newton.idp",
                                         "solve/newton_system.idp", "solve/gmres.idp"]),

@@ -455,6 +455,7 @@ def test_paths_with_odd_characters_run(tmp_path):
     odd = tmp_path / ODD
     (odd / "meshes").mkdir(parents=True)
     shutil.copytree(os.path.join(ROOT, "edp"), odd / "edp")
+    shutil.copytree(os.path.join(ROOT, "postprocess"), odd / "postprocess", ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copytree(os.path.join(ROOT, "build", "plugins"), odd / "build" / "plugins")   # (the serial solves' plugin)
     shutil.copy(os.path.join(ROOT, "meshes", "ball.msh"), odd / "meshes" / "ball.msh")
     shutil.copy(os.path.join(ROOT, "edp", "scenes", "ball.idp"), odd / "ball.idp")
