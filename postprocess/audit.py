@@ -22,14 +22,11 @@ them; a failure names the check, the column, the step and the size of the differ
              slipping nodes the history's active_nodes, stick_nodes, slip_nodes (serial, P1)
 
 Exit status: 0 every check passes; 1 a check fails (one line each, `audit: RUN: ...`); 2 a run's files cannot be
-read. Pure Python (no numpy), so that edp/run.sh can afford it after every run.
+read. Pure Python (no numpy), so that edp/run.sh can afford it after every run (python3 -S: 25 ms on Test 1).
 """
-import base64
 import csv
 import math
 import os
-import re
-import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -79,7 +76,10 @@ def read_history(path):
 
 def vtu_array(text, name):
     """A Float64 point or cell array of a VTK XML file that FreeFEM's savevtk wrote (binary: base64 of a UInt32 byte
-    count and the little-endian values), or None."""
+    count and the little-endian values), or None. (Its modules are imported here: most runs write no .vtu.)"""
+    import base64
+    import re
+    import struct
     m = re.search(r'<DataArray[^>]*Name="%s"[^>]*format="binary"[^>]*>\s*([^<]*)<' % name, text)
     if not m or 'type="Float64"' not in m.group(0):
         return None
