@@ -479,3 +479,15 @@ def test_a_scene_missing_a_macro_it_needs_is_refused(tmp_path):
     assert p.returncode == 3 and error_lines(p) == [
         "error: -foundation user needs the scene to define macros userFoundationPsi(X1, t) and userFoundationDpsi(X1, t); "
         "it lacks userFoundationDpsi(X1, t)"], p.stderr
+
+
+def test_a_scene_psi_that_jumps_between_the_checked_points_is_named(tmp_path):
+    """A user psi with a plateau between the points the foundation check samples (X1 in (0.52, 0.58), its slope macro
+    0), under -gap exact: the disk sliding onto it gains energy, and the guard's line said "please report it" citing
+    (10) and Prop. 2; it names the scene's psi now."""
+    text = ('foundation = "user";\ngap = "exact";\nmacro userFoundationPsi(X1, t) ((X1 > 0.52) * (X1 < 0.58) * 0.2) // EOM\n'
+            'macro userFoundationDpsi(X1, t) (0.) // EOM\nu0y = 0;\nv0x = 0.5;\nT = 5;\nsolver = "activeset";\n')
+    p = run_scene(scene_file(tmp_path, "plateau", text), tmp_path / "out", ["-mesh", COARSE, "-snapshots", "none"] + QUIET,
+                  check=False)
+    assert p.returncode == 4 and "the scene's psi may jump, have a userFoundationDpsi that is not its derivative, or " \
+        "move, between the points and times its check samples" in error_lines(p)[0], p.stderr
