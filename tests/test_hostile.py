@@ -491,3 +491,12 @@ def test_a_scene_psi_that_jumps_between_the_checked_points_is_named(tmp_path):
                   check=False)
     assert p.returncode == 4 and "the scene's psi may jump, have a userFoundationDpsi that is not its derivative, or " \
         "move, between the points and times its check samples" in error_lines(p)[0], p.stderr
+
+
+def test_the_force_columns_follow_the_method_in_effect_not_an_option(tmp_path):
+    """-contact_quadrature gauss with the constraint (10) has no effect (its warning says so), but the force columns
+    took the Gauss points' branch and wrote 0 while the disk was pressed: exit 6, found by make hostile. They follow
+    the contact method in effect."""
+    p = run_scene("incline", tmp_path / "out", ["-T", "0.3", "-contact_quadrature", "gauss", "-mesh", COARSE] + QUIET)
+    assert "warning: -contact_quadrature has no effect" in p.stderr
+    assert read_run(str(tmp_path / "out"))["contact_force_y"][1:].min() > 0
