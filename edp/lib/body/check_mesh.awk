@@ -8,7 +8,8 @@
 # every triangle counter-clockwise with a positive area, every node in a triangle,
 # and every node in one plane z = const (a 2D mesh). With -v dimension=3 (edp/run.sh
 # found tetrahedra in it): triangles are the boundary's faces, and the body is its 4-node
-# tetrahedra (type 4), each with a positive volume, every node in one.
+# tetrahedra (type 4), each with a positive volume, every node in one. In both, the body is one:
+# its cells carry one physical label and form one piece.
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
 # an edge's (a face's) key from its sorted node ids: a number while it stays exact in double precision (awk indexes
 # numbers faster than strings), else a string; keyNodes and keyBase are set from $Nodes
@@ -29,6 +30,16 @@ function keyCorners(key, corner) {      # the sorted node ids of a key, into cor
   if (dimension == 3) { corner[3] = key % keyBase; key = (key - corner[3]) / keyBase }
   corner[2] = key % keyBase; corner[1] = (key - corner[2]) / keyBase
   return (dimension == 3) ? 3 : 2
+}
+# the body's cells' labels (a gmsh Physical Surface, 3D Physical Volume, is one body) and its pieces: nodes joined by
+# a cell are one piece (union-find)
+function cellLabel(l) { if (!(l in labelCells)) labels[++nLabels] = l; labelCells[l]++ }
+function root(k) { while (parent[k] != k) { parent[k] = parent[parent[k]]; k = parent[k] }; return k }
+function joinCell(a, b, c, d,   r, s) {
+  r = root(a + 0)
+  if ((s = root(b + 0)) != r) parent[s] = r
+  if ((s = root(c + 0)) != r) parent[s] = r
+  if (d != "" && (s = root(d + 0)) != r) parent[s] = r
 }
 function point(k) { return "(" X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")" }
 BEGIN {
@@ -74,7 +85,7 @@ section == "Nodes" {
     fail("line " NR " in $Nodes is not 'id x y z': '" substr($0, 1, 60) "'")
   if (!isfinite($2) || !isfinite($3)) fail("node " $1 " has a coordinate that is not a finite number")
   if ($1 in X) fail("node " $1 " is defined twice")
-  X[$1] = $2 + 0; Y[$1] = $3 + 0; Z[$1] = $4 + 0; read++; nodeId[++nNodes] = $1
+  X[$1] = $2 + 0; Y[$1] = $3 + 0; Z[$1] = $4 + 0; read++; nodeId[++nNodes] = $1; parent[$1 + 0] = $1 + 0
   if ($1 + 1 > keyBase) keyBase = $1 + 1
   numericKeys = (dimension == 3 ? keyBase ^ 3 : keyBase ^ 2) < 2 ^ 52
   if (!isfinite($4)) fail("node " $1 " has a coordinate that is not a finite number")
@@ -103,6 +114,7 @@ section == "Elements" {
   if (type == 2 && dimension == 3) labelled[faceKey($(NF - 2), $(NF - 1), $NF)] = 1
   if (type == 4) {
     a = $(NF - 3); b = $(NF - 2); c = $(NF - 1); d = $NF
+    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, d)
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1; inTriangle[d] = 1
     ux = X[b] - X[a]; uy = Y[b] - Y[a]; uz = Z[b] - Z[a]; vx = X[c] - X[a]; vy = Y[c] - Y[a]; vz = Z[c] - Z[a]
     wx = X[d] - X[a]; wy = Y[d] - Y[a]; wz = Z[d] - Z[a]
@@ -115,6 +127,7 @@ section == "Elements" {
   if (type == 2 && dimension == 3) { read++; next }
   if (type == 2) {
     a = $(NF - 2); b = $(NF - 1); c = $NF
+    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, "")
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1
     area = ((X[b] - X[a]) * (Y[c] - Y[a]) - (X[c] - X[a]) * (Y[b] - Y[a])) / 2
     scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
@@ -143,6 +156,7 @@ END {
   if (inverted) fail("triangle " firstInverted " is inverted (clockwise, area " firstInvertedArea "); FreeFEM needs counter-clockwise triangles")
   size = (xmax - xmin) + (ymax - ymin)
   cell = (dimension == 3) ? "tetrahedron" : "triangle"
+  cells = (dimension == 3) ? "tetrahedra" : "triangles"
   if (dimension != 3 && zmax - zmin > 1e-9 * size)
     fail("its nodes span z from " zmin " to " zmax ", not one plane, and it has no tetrahedra: a plane body needs its nodes in one plane (gmsh -2 of a plane geometry), a 3D body a Volume meshed into tetrahedra (gmsh -3)")
   groups = (dimension == 3) ? "Physical Volume and Physical Surface" : "Physical Surface and Physical Curve"
@@ -155,6 +169,19 @@ END {
     n = keyCorners(first, corner)
     where = (n == 3) ? "face " point(corner[1]) ", " point(corner[2]) ", " point(corner[3]) : "edge from " point(corner[1]) " to " point(corner[2])
     fail(unlabelled " of the " boundary " boundary " ((dimension == 3) ? "faces" : "edges") " carry no " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " label, such as the " where ": every boundary " ((dimension == 3) ? "face" : "edge") " needs one (Gamma_C's, Gamma_D's or a traction-free label: docs/geometry.md); add them to the .geo's " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " lines")
+  }
+  # one body: one label on its cells, in one piece (several bodies would meet as one glued body, or pass through each
+  # other, since no contact between bodies is modelled)
+  if (nLabels > 1) {
+    text = ""
+    for (i = 1; i <= nLabels; i++) text = text (i > 1 ? (i == nLabels ? " and " : ", ") : "") labels[i] " (" labelCells[labels[i]] " " cells ")"
+    fail("its " cells " carry " nLabels " " ((dimension == 3) ? "Physical Volume" : "Physical Surface") " labels, " text ", so it holds " nLabels " bodies; a run takes one body (contact between bodies is not modelled, and bodies that share nodes would be glued into one): give the body's " cells " one label")
+  }
+  for (i = 1; i <= nNodes; i++) if ((k = nodeId[i]) in inTriangle) { r = root(k + 0); if (!(r in pieceAt)) { pieceAt[r] = k; pieces++ } }
+  if (pieces > 1) {
+    n = 0
+    for (r in pieceAt) { n++; if (n == 1) first = pieceAt[r]; else if (n == 2) second = pieceAt[r] }
+    fail("its " cells " form " pieces " pieces that share no node, one at " point(first) ", another at " point(second) "; a run takes one body in one piece (pieces apart would pass through each other, since contact between bodies is not modelled)")
   }
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
     at = "(at " X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")"
