@@ -58,6 +58,21 @@ def hertz(v0, lam=LAMBDA, mu=MU, rho=RHO, radius=RADIUS):
             "T_H": CONTACT_TIME_CONSTANT * delta / v0}
 
 
+
+def hertz_two_balls(v0, lam=LAMBDA, mu=MU, rho=RHO, radius=RADIUS):
+    """Hertz's head-on impact of two equal balls at +-v0: the impact of one body of the effective radius R/2,
+    modulus E* = E/(2 (1 - nu^2)) and mass m/2 on a rigid flat at the approach speed 2 v0 (hertz()'s dict, with
+    m the one ball's mass, K, delta*, F*, a* and T_H those of the pair, and v0 the approach speed 2 v0)."""
+    e, nu = moduli(lam, mu)
+    e_star = e / (2 * (1 - nu ** 2))
+    m = 4 / 3 * math.pi * rho * radius ** 3
+    r_star, m_star, approach = radius / 2, m / 2, 2 * v0
+    k = 4 / 3 * e_star * math.sqrt(r_star)
+    delta = (15 * m_star * approach ** 2 / (16 * e_star * math.sqrt(r_star))) ** 0.4
+    return {"E": e, "nu": nu, "E_star": e_star, "c_star": math.sqrt(2 * e_star / rho), "m": m, "K": k, "v0": approach,
+            "R": r_star, "delta_star": delta, "F_star": k * delta ** 1.5, "a_star": math.sqrt(r_star * delta),
+            "T_H": CONTACT_TIME_CONSTANT * delta / approach}
+
 def hermite(u, x0, d0, x1, d1):
     """The cubic with values x0, x1 and slopes d0, d1 (per unit of u) at u = 0, 1, and its slope, at u."""
     value = ((2 * u ** 3 - 3 * u ** 2 + 1) * x0 + (u ** 3 - 2 * u ** 2 + u) * d0
