@@ -112,6 +112,7 @@ deps-test: deps-plot
 	$(call install_missing, \
 	$(PYTHON) -c 'import pytest' 2>/dev/null || missing="$$missing python3-pytest"; \
 	$(PYTHON) -c 'import hypothesis' 2>/dev/null || missing="$$missing python3-hypothesis"; \
+	$(PYTHON) -c 'import xdist' 2>/dev/null || missing="$$missing python3-pytest-xdist"; \
 	command -v mpirun >/dev/null || missing="$$missing openmpi-bin";)
 deps: deps-test
 
@@ -226,8 +227,11 @@ figures: test1 test2 | deps-plot
 	$(PYTHON) postprocess/plot_paper.py --results $(RESULTS) --reference tests/reference/getfem-verlet-nitsche-test1.csv --out $(FIGURES)
 
 # ---- tests
+# two test files at a time (pytest-xdist, CHECK_JOBS workers, each file whole on one worker; the shared runs of
+# tests/conftest.py made once, shared by the workers)
+CHECK_JOBS ?= 2
 check: meshes | deps-test
-	$(PYTHON) -m pytest -q --durations=15 tests
+	$(PYTHON) -m pytest -q -n $(CHECK_JOBS) --dist loadfile --durations=15 tests
 
 # the hostile test with fresh seeds for MINUTES (30) (tests/hostile.py, docs/tests.md): it prints the shrunk
 # counterexamples of any case that breaks the suite's contract

@@ -1,5 +1,6 @@
 """Shared runs for the tests: every simulation the tests need is started once
-per session, two at a time (the machines have 2 cores), in a temporary directory."""
+per session, two at a time (the machines have 2 cores; under make check's pytest-xdist, one on each worker),
+in a temporary directory."""
 import os
 import shutil
 import subprocess
@@ -271,31 +272,64 @@ def refused_into_copy(tmp_path, earlier, scene, args, env=None, **kwargs):
     return p, files_of(out) != before
 
 
+def shared_directory(tmp_path_factory, name):
+    """A directory every worker of this session sees: under pytest-xdist (make check's -n 2) each worker has its
+    own base temporary directory, popen-gwN, in one directory of the session."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent
+    directory = base / name
+    directory.mkdir(exist_ok=True)
+    return directory
+
+
 @pytest.fixture(scope="session")
 def runs(tmp_path_factory):
-    base = tmp_path_factory.mktemp("runs")
+    """Every run of RUNS, made once per session whatever the workers: each worker claims the runs no other has
+    claimed (an exclusive file beside the run) and makes them, one at a time under pytest-xdist (the other worker
+    keeps the second core busy), two at a time alone; then it waits for the runs the other worker claimed. A run's
+    exit status is written beside it once it has ended (NAME.status), its stdout and stderr are NAME.stdout and
+    NAME.stderr."""
+    base = shared_directory(tmp_path_factory, "runs")
+    at_once = 1 if os.environ.get("PYTEST_XDIST_WORKER") else 2
     pending = list(RUNS.items())
     active = []
     while pending or active:
-        while pending and len(active) < 2:
+        while pending and len(active) < at_once:
             name, (scene, args) = pending.pop(0)
             out = str(base / name)
+            try:
+                os.close(os.open(f"{out}.claim", os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            except FileExistsError:
+                continue                 # (another worker makes it)
             # stdout and stderr to files beside the run (the stress test reads stderr alone)
             logs = (open(f"{out}.stdout", "w"), open(f"{out}.stderr", "w"))
             proc = subprocess.Popen([RUN, scene, out, "-progress", "0", "-vtk", "0"] + args,
                                     stdout=logs[0], stderr=logs[1], text=True, env=dict(os.environ, FORCE="1"))
-            active.append((name, out, proc, logs))
+            active.append((out, proc, logs))
         time.sleep(0.2)
         for item in list(active):
-            name, out, proc, logs = item
+            out, proc, logs = item
             if proc.poll() is not None:
                 for f in logs:
                     f.close()
-                stdout, stderr = (open(f"{out}.{k}").read() for k in ("stdout", "stderr"))
-                RUN_STATUS[name] = (proc.returncode, stderr)
-                allowed = (0, 4) if name in MAY_EXIT_4 else (0,)
-                assert proc.returncode in allowed, f"run {name} failed ({proc.returncode}):\n{stdout}{stderr}"
+                with open(f"{out}.status.part", "w") as f:
+                    f.write(f"{proc.returncode}\n")
+                os.replace(f"{out}.status.part", f"{out}.status")
                 active.remove(item)
+    for name in RUNS:
+        out = str(base / name)
+        waited = 0
+        while not os.path.exists(f"{out}.status"):
+            assert waited < 7200, f"run {name}: the worker that claimed it has not ended it in 2 hours"
+            time.sleep(0.5)
+            waited += 0.5
+        with open(f"{out}.status") as f:
+            status = int(f.read())
+        stdout, stderr = (open(f"{out}.{k}").read() for k in ("stdout", "stderr"))
+        RUN_STATUS[name] = (status, stderr)
+        allowed = (0, 4) if name in MAY_EXIT_4 else (0,)
+        assert status in allowed, f"run {name} failed ({status}):\n{stdout}{stderr}"
     return {name: str(base / name) for name in RUNS}
 
 
