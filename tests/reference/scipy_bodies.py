@@ -8,8 +8,9 @@ The discretisation:
     a boundary line with physical tag 1 is its body's contact boundary;
   - for each body, the consistent mass M (int rho u.w), the stiffness K of plane strain (lambda div u div w +
     2 mu eps(u):eps(w)); no load, no foundation; A = 2 M / dt^2 + K / 2 (block-diagonal by body), factorised once;
-  - constraint (10) between bodies, node to segment, one pass: each contact node s of body 1 against the
-    closest contact segment [a, b] of body 2 in the current configuration, the gap
+  - constraint (10) between bodies, node to segment ("nts"), or mortar's weighted gaps with standard ("mortar")
+    or biorthogonal ("dual") multipliers (contact_rows_mortar); node to segment, one pass: each contact node s of
+    body 1 against the closest contact segment [a, b] of body 2 in the current configuration, the gap
         g = (x_s - (1 - xi) x_a - xi x_b) . n  >= 0,   n the segment's outward normal (of body 2),
     imposed at t_{n+1} with xi and n frozen: a linear row (n on s, -(1 - xi) n on a, -xi n on b) whose
     coefficients sum to zero in each component, so the contact forces are equal and opposite and the total
@@ -190,7 +191,7 @@ def contact_rows(X, tris, contact, node_body, x):
     return G, h, pairs
 
 
-def contact_rows_mortar(X, tris, contact, node_body, x):
+def contact_rows_mortar(X, tris, contact, node_body, x, dual=False):
     """The mortar rows (segment to segment) of the gap between bodies about X + x: for each contact node j of body
     1, the weighted gap  int_{Gamma_1} N_j (x_1 - x_2(pi)) . n ds >= 0  over body 1's contact segments, x_2(pi)
     the closest point of body 2's segment and n its outward normal, by 3-point Gauss quadrature on each piece of a
@@ -223,7 +224,9 @@ def contact_rows_mortar(X, tris, contact, node_body, x):
                 point = xa + sq * d
                 eta = min(1.0, max(0.0, float((point - ya) @ e / (e @ e))))
                 weight = w * (s1 - s0) * length
-                for j, nj in ((sa, 1 - sq), (sb, sq)):
+                # (dual: the biorthogonal multipliers 2 N_a - N_b, 2 N_b - N_a, whose slave block is diagonal)
+                tests = ((sa, 2 - 3 * sq), (sb, 3 * sq - 1)) if dual else ((sa, 1 - sq), (sb, sq))
+                for j, nj in tests:
                     r = row[j]
                     for k, nk in ((sa, 1 - sq), (sb, sq)):
                         G[r, 2 * k:2 * k + 2] -= weight * nj * nk * nrm
@@ -232,6 +235,13 @@ def contact_rows_mortar(X, tris, contact, node_body, x):
                     reference = (X[sa] + sq * (X[sb] - X[sa])) - (X[ma] + eta * (X[mb] - X[ma]))
                     h[r] += weight * nj * float(reference @ nrm)
     return G, h, None
+
+
+def rows_of(method):
+    """The rows' function of a method: "nts", "mortar" or "dual" (mortar with biorthogonal multipliers)."""
+    if method == "nts":
+        return contact_rows
+    return lambda *a: contact_rows_mortar(*a, dual=(method == "dual"))
 
 
 def active_set(solve, G, h, x_free, start):
@@ -257,7 +267,7 @@ def active_set(solve, G, h, x_free, start):
 def run(X, tris, tri_body, contact, node_body, lam, mu, rho, v0, T, dt, method="nts"):
     """Bodies 1 and 2 approaching each other at +v0 and -v0 along X1, from rest shape, the rows of method ("nts":
     contact_rows, "mortar": contact_rows_mortar); returns the history."""
-    rows = contact_rows if method == "nts" else contact_rows_mortar
+    rows = rows_of(method)
     K, M = assemble(X, tris, lam, mu, rho)
     A = (2 / dt ** 2) * M + 0.5 * K
     lu = spla.splu(A.tocsc())
@@ -313,7 +323,7 @@ def press(X, tris, tri_body, contact, node_body, by_label, lam, mu, pressure, me
     one node of each body held in X1 (its leftmost lowest), the pressure on body 1's top (label 4); K u = F under
     the rows, by the KKT system of the active rows (every row, then those with a negative multiplier dropped).
     Returns (u, the multipliers, the rows' nodes, their pressures: lm_j / (half the adjacent slave segments'
-    lengths) for "nts", lm_j itself for "mortar")."""
+    lengths) for "nts", lm_j itself for "mortar" and "dual")."""
     K, _ = assemble(X, tris, lam, mu, 1.0)
     n = 2 * len(X)
     F = np.zeros(n)
@@ -326,8 +336,7 @@ def press(X, tris, tri_body, contact, node_body, by_label, lam, mu, pressure, me
         nodes = np.nonzero(node_body == body)[0]
         fixed.add(2 * int(nodes[np.lexsort((X[nodes, 0], X[nodes, 1]))[0]]))
     free = np.array(sorted(set(range(n)) - fixed))
-    rows = contact_rows if method == "nts" else contact_rows_mortar
-    G, h, _ = rows(X, tris, contact, node_body, np.zeros(n))
+    G, h, _ = rows_of(method)(X, tris, contact, node_body, np.zeros(n))
     active = np.ones(len(h), bool)
     for _ in range(50):
         Ga = G[active][:, free]
@@ -376,7 +385,7 @@ if __name__ == "__main__":
     ap.add_argument("--v0", type=float, default=0.01)
     ap.add_argument("--T", type=float, default=3.0)
     ap.add_argument("--dt", type=float, default=0.05)
-    ap.add_argument("--method", choices=("nts", "mortar"), default="mortar")
+    ap.add_argument("--method", choices=("nts", "mortar", "dual"), default="dual")
     a = ap.parse_args()
     h = bars(tuple(float(x) for x in a.lengths.split(",")), a.size, v0=a.v0, T=a.T, dt=a.dt, method=a.method)
     keys = list(h)
