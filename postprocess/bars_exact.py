@@ -59,12 +59,6 @@ def impact(lengths, velocities, mu, rho, height=1.0):
     }
 
 
-def contact_force(t, lengths, velocities, mu, rho, height=1.0):
-    """The exact contact force at time t (0 before and after the contact)."""
-    r = impact(lengths, velocities, mu, rho, height)
-    return r["contact_force"] if 0 < t < r["contact_end"] else 0.0
-
-
 if __name__ == "__main__":
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -7,6 +7,8 @@ Integrated by the classical Runge-Kutta method with a step far below the contact
 conserved to round-off and its energy to the step's order."""
 import numpy as np
 
+import hertz_analysis
+
 
 def forces(x, masses, stiffness, exponent):
     """The accelerations of the balls at positions x (displacements from the touching start)."""
@@ -37,7 +39,7 @@ def strike(velocities, masses, stiffness, exponent=1.5, horizon=None, steps_per_
     # the largest overlap of two balls at that speed, m* V^2/2 = K delta^(p+1)/(p+1), and their contact time
     # (Hertz's T = 2.943 delta*/V for p = 3/2; the step's scale otherwise)
     delta = (m_pair * speed ** 2 * (exponent + 1) / (2 * stiffness)) ** (1 / (exponent + 1))
-    contact_time = 2.943275 * delta / speed
+    contact_time = hertz_analysis.CONTACT_TIME_CONSTANT * delta / speed
     dt = contact_time / steps_per_contact
     horizon = horizon if horizon is not None else 20 * len(v) * contact_time
     times, overlaps, momenta, energies = [0.0], [np.maximum(x[:-1] - x[1:], 0.0)], [float(m @ v)], \
@@ -65,7 +67,6 @@ def strike(velocities, masses, stiffness, exponent=1.5, horizon=None, steps_per_
 
 if __name__ == "__main__":
     import argparse
-    import hertz_analysis
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--balls", type=int, default=3)
     ap.add_argument("--v0", type=float, default=1e-3, help="the first ball's speed toward the others")

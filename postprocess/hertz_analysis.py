@@ -43,35 +43,35 @@ def wave_speed(lam=LAMBDA, mu=MU, rho=RHO):
     return math.sqrt(e / (1 - nu ** 2) / rho)
 
 
+def hertz_impact(e_star, radius, m, v0):
+    """Hertz's impact of a body of modulus E*, radius R and mass m on a rigid flat at speed v0 > 0 (or of two
+    bodies, with their effective values): K = 4/3 E* sqrt(R); delta* = (15 m v0^2/(16 E* sqrt(R)))^(2/5);
+    F* = K delta*^(3/2); a* = sqrt(R delta*); T_H = 2.943275 delta*/v0 (CONTACT_TIME_CONSTANT)."""
+    k = 4 / 3 * e_star * math.sqrt(radius)
+    delta = (15 * m * v0 ** 2 / (16 * e_star * math.sqrt(radius))) ** 0.4
+    return {"K": k, "v0": v0, "R": radius, "delta_star": delta, "F_star": k * delta ** 1.5,
+            "a_star": math.sqrt(radius * delta), "T_H": CONTACT_TIME_CONSTANT * delta / v0}
+
+
 def hertz(v0, lam=LAMBDA, mu=MU, rho=RHO, radius=RADIUS):
     """Hertz's impact of a ball (radius, rho, lambda, mu) on a rigid flat at speed v0 > 0, as a dict:
-    E, nu; m = 4/3 pi rho R^3; E* = E/(1 - nu^2); c* = sqrt(E*/rho); K = 4/3 E* sqrt(R);
-    delta* = (15 m v0^2/(16 E* sqrt(R)))^(2/5); F* = K delta*^(3/2); a* = sqrt(R delta*);
-    T_H = 2.943275 delta*/v0 (CONTACT_TIME_CONSTANT); and v0, R."""
+    E, nu; m = 4/3 pi rho R^3; E* = E/(1 - nu^2); c* = sqrt(E*/rho); and hertz_impact()'s K, delta*, F*, a*,
+    T_H, v0, R."""
     e, nu = moduli(lam, mu)
     e_star = e / (1 - nu ** 2)
     m = 4 / 3 * math.pi * rho * radius ** 3
-    k = 4 / 3 * e_star * math.sqrt(radius)
-    delta = (15 * m * v0 ** 2 / (16 * e_star * math.sqrt(radius))) ** 0.4
-    return {"E": e, "nu": nu, "E_star": e_star, "c_star": math.sqrt(e_star / rho), "m": m, "K": k, "v0": v0,
-            "R": radius, "delta_star": delta, "F_star": k * delta ** 1.5, "a_star": math.sqrt(radius * delta),
-            "T_H": CONTACT_TIME_CONSTANT * delta / v0}
-
+    return {"E": e, "nu": nu, "E_star": e_star, "c_star": math.sqrt(e_star / rho), "m": m,
+            **hertz_impact(e_star, radius, m, v0)}
 
 
 def hertz_two_balls(v0, lam=LAMBDA, mu=MU, rho=RHO, radius=RADIUS):
-    """Hertz's head-on impact of two equal balls at +-v0: the impact of one body of the effective radius R/2,
-    modulus E* = E/(2 (1 - nu^2)) and mass m/2 on a rigid flat at the approach speed 2 v0 (hertz()'s dict, with
-    m the one ball's mass, K, delta*, F*, a* and T_H those of the pair, and v0 the approach speed 2 v0)."""
-    e, nu = moduli(lam, mu)
-    e_star = e / (2 * (1 - nu ** 2))
-    m = 4 / 3 * math.pi * rho * radius ** 3
-    r_star, m_star, approach = radius / 2, m / 2, 2 * v0
-    k = 4 / 3 * e_star * math.sqrt(r_star)
-    delta = (15 * m_star * approach ** 2 / (16 * e_star * math.sqrt(r_star))) ** 0.4
-    return {"E": e, "nu": nu, "E_star": e_star, "c_star": math.sqrt(2 * e_star / rho), "m": m, "K": k, "v0": approach,
-            "R": r_star, "delta_star": delta, "F_star": k * delta ** 1.5, "a_star": math.sqrt(r_star * delta),
-            "T_H": CONTACT_TIME_CONSTANT * delta / approach}
+    """Hertz's head-on impact of two equal balls at +-v0: hertz_impact() of the effective radius R/2, modulus
+    E* = E/(2 (1 - nu^2)) and mass m/2 at the approach speed 2 v0 (m the one ball's mass, c* the one ball's
+    sqrt(E/((1 - nu^2) rho)); K, delta*, F*, a* and T_H those of the pair, v0 the approach speed 2 v0)."""
+    one = hertz(v0, lam, mu, rho, radius)
+    e_star = one["E_star"] / 2
+    return {**one, "E_star": e_star, **hertz_impact(e_star, radius / 2, one["m"] / 2, 2 * v0)}
+
 
 def hermite(u, x0, d0, x1, d1):
     """The cubic with values x0, x1 and slopes d0, d1 (per unit of u) at u = 0, 1, and its slope, at u."""
