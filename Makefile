@@ -79,9 +79,11 @@ endef
 # The serial solves' plugin (edp/lib/solve/cholmod_columns.cpp: CHOLMOD's factor with its halves apart), built
 # with FreeFEM's ff-c++ into build/plugins/, where edp/run.sh loads it from
 PLUGIN = build/plugins/cholmod_columns.so
+# and the contact between bodies' (edp/lib/contact/body_contact.cpp: the dual mortar rows, the search)
+BODY_PLUGIN = build/plugins/body_contact.so
 # and the studies' launcher (postprocess/peak_rss.cpp: a run's peak memory, not the forking Python's)
 PEAK_RSS = build/peak_rss
-deps-run: $(PLUGIN) $(PEAK_RSS)
+deps-run: $(PLUGIN) $(BODY_PLUGIN) $(PEAK_RSS)
 $(PEAK_RSS): postprocess/peak_rss.cpp | deps-packages
 	@mkdir -p build
 	@g++ -O2 -Wall -o $@ $<
@@ -96,13 +98,19 @@ deps-packages:
 	[ -f /usr/include/suitesparse/cholmod.h ] || missing="$$missing libsuitesparse-dev"; \
 	ls /usr/lib/*/openblas-pthread/libblas.so.3 >/dev/null 2>&1 || missing="$$missing libopenblas0-pthread"; \
 	[ -x $(PYTHON) ] || missing="$$missing python3";)
-plugins: $(PLUGIN)
+plugins: $(PLUGIN) $(BODY_PLUGIN)
 $(PLUGIN): edp/lib/solve/cholmod_columns.cpp edp/lib/solve/memory_left.hpp edp/lib/solve/cholmod_arrays.hpp | deps-packages
 	@mkdir -p build/plugins
 	@echo "building $@ (ff-c++) ..."
 	@cd build/plugins && cp ../../edp/lib/solve/cholmod_columns.cpp ../../edp/lib/solve/*.hpp . && \
 	  if ff-c++ cholmod_columns.cpp -lcholmod > build.log 2>&1; then rm -f cholmod_columns.cpp *.hpp cholmod_columns.o; \
 	  else grep -i -m 5 "error" build.log; echo "$@: ff-c++ failed (build/plugins/build.log)"; rm -f cholmod_columns.so; exit 1; fi
+$(BODY_PLUGIN): edp/lib/contact/body_contact.cpp | deps-packages
+	@mkdir -p build/plugins
+	@echo "building $@ (ff-c++) ..."
+	@cd build/plugins && cp ../../edp/lib/contact/body_contact.cpp . && \
+	  if ff-c++ body_contact.cpp > build_body.log 2>&1; then rm -f body_contact.cpp body_contact.o; \
+	  else grep -i -m 5 "error" build_body.log; echo "$@: ff-c++ failed (build/plugins/build_body.log)"; rm -f body_contact.so; exit 1; fi
 deps-plot: deps-run
 	$(call install_missing, \
 	$(PYTHON) -c 'import numpy' 2>/dev/null || missing="$$missing python3-numpy"; \
@@ -132,6 +140,7 @@ meshes/%_refine8.msh: REFINE = 8
 # mesh, is refine 0.3 (534 vertices)
 meshes/hertz_coarse.msh: REFINE = 0.3
 meshes/hertz.msh meshes/hertz_coarse.msh: meshes/ball.geo
+meshes/bars_1_2.msh: meshes/bars.geo
 # make bench's middle ball (docs/bench.md): refine 2.45, 6907 vertices, the size of issue 25's scipy reference
 meshes/ball_medium.msh: REFINE = 2.45
 meshes/ball_medium.msh: meshes/ball.geo | deps-run

@@ -213,8 +213,10 @@ processes=serial
 [ -n "$np" ] && processes=mpi
 # the solves with A go through CHOLMOD's factor in the plugin make builds (solve/direct.idp; -np: the subdomains'
 # factors, solve/ffddm_solve.idp)
-[ -f "$root/build/plugins/cholmod_columns.so" ] ||
-  err "$root/build/plugins/cholmod_columns.so is missing: build it with 'make plugins' (it needs g++ and libsuitesparse-dev; 'make deps' installs them)" 1
+for plugin in cholmod_columns body_contact; do
+  [ -f "$root/build/plugins/$plugin.so" ] ||
+    err "$root/build/plugins/$plugin.so is missing: build it with 'make plugins' (it needs g++ and libsuitesparse-dev; 'make deps' installs them)" 1
+done
 write_compiled "$order" "$material" "$material_file" "$dimension" "$processes"
 # IPOPT reads ipopt.opt from its working directory (the driver removes it when the run's -solver is not ipopt)
 cp "$here/lib/contact/ipopt.opt" "$stage/ipopt.opt" 2>/dev/null || err "cannot write into $out (disk full?)" 7

@@ -15,6 +15,8 @@ them; a failure names the check, the column, the step and the size of the differ
   energy     Prop. 2: on a foundation fixed in time, under (10) with the mid-point scheme, E - (f, u) + D - W never
              rises from a step to the next (D friction's work, W a belt's), to round-off (IPOPT: its -tol;
              Newton: -newton_tol)
+  bodies     several bodies: E^{n+1} - E^n = rows_work (the mid-point identity with the step's rows at u^n) to
+             round-off; without load and foundation the momentum_x and momentum_y constant to 1e-12 of the bodies'
   friction   D never decreases; Coulomb |T| <= F N and Tresca |T| <= g |Gamma_C| in totals, in the foundation's
              frame where it is flat (tilted or not)
   snapshots  a snapshot_t<t>.csv for every snapshot time up to the last row, its displacement at the reference
@@ -155,7 +157,7 @@ def probe_count(p, dimension):
     return 0 if probes in ("none", "") else len(probes.split(",")) // dimension
 
 
-def expected_columns(p, dimension):
+def expected_columns(p, dimension, bodies=(1,)):
     """history.csv's columns for this run, as docs/outputs.md lists them (and edp/lib/io/history.idp writes them)."""
     if dimension == 3:
         cols = ("step,t,u1_low,u2_low,u3_low,v3_low,contact_pressure_low,contact_force_z,contact_area,energy,"
@@ -176,7 +178,25 @@ def expected_columns(p, dimension):
         cols.append("foundation_work")
     for k in range(probe_count(p, dimension)):
         cols += [f"u{c}_probe{k}" for c in range(1, dimension + 1)]
+    if len(bodies) > 1:
+        cols += ["momentum_x", "momentum_y"]
+        for b in bodies:
+            cols += [f"body{b}_u1_mean", f"body{b}_u2_mean", f"body{b}_v1_mean", f"body{b}_v2_mean"]
+        cols += ["body_contact_force", "body_contact_nodes", "max_penetration_bodies", "rows_work", "linearisations"]
     return cols
+
+
+def body_labels(run):
+    """The labels of the bodies of the mesh the run saved, in increasing order: its triangles' region labels (mesh.msh;
+    a 3D run's mesh.mesh holds one body)."""
+    path = os.path.join(run, "mesh.msh")
+    if not os.path.exists(path):
+        return [1]
+    with open(path) as f:
+        nv, nt, _ = (int(x) for x in f.readline().split())
+        for _ in range(nv):
+            f.readline()
+        return sorted({int(f.readline().split()[3]) for _ in range(nt)})
 
 
 class Run:
@@ -193,6 +213,7 @@ class Run:
         if not self.rows:
             raise Failure("history.csv has no row")
         self.volume, self.boundary, self.dimension = mesh_measures(path)
+        self.bodies = body_labels(path)
         self.dt = float(self.p["dt"])
 
     def col(self, name):
@@ -213,7 +234,7 @@ class Run:
             if name in seen:
                 self.fail("columns", f"column {name} appears twice in history.csv's header")
             seen.add(name)
-        expected = expected_columns(self.p, self.dimension)
+        expected = expected_columns(self.p, self.dimension, self.bodies)
         missing = [c for c in expected if c not in self.header]
         extra = [c for c in self.header if c not in expected]
         if missing:
@@ -324,8 +345,41 @@ class Run:
             return "foundationMoving=1" not in text
         return False
 
+    def check_bodies(self):
+        """Several bodies (docs/bodies.md): the mid-point scheme's energy identity, E^{n+1} - E^n = lm . (C u^n - g)
+        (rows_work: the step's rows at u^n; <= 0 where u^n satisfies them, Prop. 2), to round-off; and without load
+        and foundation, the total momentum conserved (each row's forces equal and opposite) to 1e-12 of the bodies'."""
+        if len(self.bodies) < 2:
+            return
+        m, work = self.col("modified_energy"), self.col("rows_work")
+        scale = max(max(abs(x) for x in m), max(abs(x) for x in self.col("energy")), 1e-300)
+        allowed = ENERGY_ROUND_OFF * scale
+        worst, where = 0.0, 0
+        for n in range(1, len(m)):
+            if abs(m[n] - m[n - 1] - work[n]) > worst:
+                worst, where = abs(m[n] - m[n - 1] - work[n]), n
+        if worst > allowed:
+            self.fail("energy", f"modified_energy changes by {m[where] - m[where - 1]:.6g} at {self.at(where)}, and the "
+                                f"mid-point identity makes it rows_work, {work[where]:.6g}: they differ by {worst:.3g} "
+                                f"(tolerance {allowed:.3g})")
+        loads = [float(self.p.get(k, "0")) for k in ("fx", "fy")]
+        if self.p.get("foundation") != "none" or any(loads):
+            return
+        speeds = [abs(x) for b in self.bodies for k in (1, 2) for x in self.col(f"body{b}_v{k}_mean")]
+        momentum_scale = float(self.p["rho"]) * self.volume * max(max(speeds), 1e-300)
+        for k in ("x", "y"):
+            p = self.col(f"momentum_{k}")
+            drift = max(abs(x - p[0]) for x in p)
+            if drift > 1e-12 * momentum_scale:
+                n = max(range(len(p)), key=lambda i: abs(p[i] - p[0]))
+                self.fail("momentum", f"momentum_{k} moves by {drift:.3g} from its start to {self.at(n)}, without load or "
+                                      f"foundation (tolerance {1e-12 * momentum_scale:.3g}, 1e-12 of the bodies' momentum "
+                                      f"{momentum_scale:.6g})")
+
     def check_energy(self):
         p = self.p
+        if len(self.bodies) > 1:
+            return          # (check_bodies: the identity with the rows' work)
         if (p.get("scheme") != "midpoint" or p.get("contact") != "constraint" or p.get("gap", "linearised") != "linearised"
                 or not self.foundation_fixed()):
             return
@@ -458,7 +512,8 @@ class Run:
         self.check_columns()
         if self.failures:          # the other checks read the columns by name
             return self.failures
-        for check in (self.check_grid, self.check_momentum, self.check_energy, self.check_friction, self.check_snapshots):
+        for check in (self.check_grid, self.check_momentum, self.check_energy, self.check_bodies, self.check_friction,
+                      self.check_snapshots):
             check()
         return self.failures
 

@@ -293,29 +293,29 @@ def test_a_mesh_that_is_a_directory_is_named(tmp_path, earlier_run, mesh):
 
 
 
-# two squares side by side (x in [0, 2]): one Physical Surface each (two bodies glued on their shared edge), or
-# apart (x in [0, 1] and [2, 3]) in one Physical Surface (two pieces)
+# two squares side by side (x in [0, 2]): one Physical Surface each, sharing the nodes of their common edge (two bodies
+# glued there), or apart (x in [0, 1] and [2, 3]) in one Physical Surface (one body in two pieces)
 TWO_BODIES = {
     "two labels": ("Point(1)={0,0,0,0.5};Point(2)={1,0,0,0.5};Point(3)={2,0,0,0.5};Point(4)={2,1,0,0.5};"
                    "Point(5)={1,1,0,0.5};Point(6)={0,1,0,0.5};Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,5};"
                    "Line(5)={5,6};Line(6)={6,1};Line(7)={2,5};Curve Loop(1)={1,7,5,6};Plane Surface(1)={1};"
                    "Curve Loop(2)={2,3,4,-7};Plane Surface(2)={2};Physical Surface(1)={1};Physical Surface(2)={2};"
                    "Physical Curve(1)={1,2};Physical Curve(2)={3,4,5,6};",
-                   "its triangles carry 2 Physical Surface labels, 1 ("),
+                   "is in the triangles of two bodies, Physical Surface labels 1 and 2: each body needs its own nodes"),
     "two pieces": ("Point(1)={0,0,0,0.5};Point(2)={1,0,0,0.5};Point(3)={1,1,0,0.5};Point(4)={0,1,0,0.5};"
                    "Point(5)={2,0,0,0.5};Point(6)={3,0,0,0.5};Point(7)={3,1,0,0.5};Point(8)={2,1,0,0.5};"
                    "Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Line(5)={5,6};Line(6)={6,7};Line(7)={7,8};"
                    "Line(8)={8,5};Curve Loop(1)={1,2,3,4};Plane Surface(1)={1};Curve Loop(2)={5,6,7,8};"
                    "Plane Surface(2)={2};Physical Surface(1)={1,2};Physical Curve(1)={1,5};Physical Curve(2)={2,3,4,6,7,8};",
-                   "its triangles form 2 pieces that share no node, one at ("),
+                   "the body of Physical Surface label 1 is 2 pieces that share no node, one at ("),
 }
 
 
 @pytest.mark.parametrize("kind", list(TWO_BODIES))
-def test_a_mesh_of_two_bodies_is_refused(tmp_path, earlier_run, kind):
-    """A run takes one body (the mid-point scheme of (1)-(2) on one body against the foundation): a mesh whose
-    triangles carry two Physical Surface labels (two bodies, which sharing an edge would run glued into one) or
-    form two pieces (which would pass through each other) is refused in one line, exit 3, before anything changes."""
+def test_glued_bodies_and_a_body_in_pieces_are_refused(tmp_path, earlier_run, kind):
+    """Each Physical Surface label is one body (docs/bodies.md): two bodies that share nodes (which would run glued
+    there) and one label whose triangles form two pieces (which would pass through each other: contact is between
+    bodies) are refused in one line, exit 3, before anything changes."""
     geo_text, message = TWO_BODIES[kind]
     geo = tmp_path / "two.geo"
     geo.write_text(geo_text + "\n")
@@ -324,4 +324,4 @@ def test_a_mesh_of_two_bodies_is_refused(tmp_path, earlier_run, kind):
     p, changed = refused_into_copy(tmp_path, earlier_run, "test1", ["-mesh", str(msh), "-T", "1"])
     errors = [line for line in p.stderr.splitlines() if line.strip()]
     assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
-    assert "a run takes one body" in errors[0] and not changed
+    assert not changed

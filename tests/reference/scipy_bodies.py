@@ -69,10 +69,10 @@ def blocks_mesh(path, sizes=(1 / 3, 1 / 4)):
     return gmsh_mesh(path, geo)
 
 
-def read_bodies(path):
+def read_bodies(path, contact_label=1):
     """The MSH 2.2 file's bodies: (X (nodes x 2), triangles (node indices; a triangle's physical tag is its body),
-    contact edges (node index pairs), body of each node, and every labelled line's edges by label: {label: [(node,
-    node), ...]}). A node of several bodies' triangles is doubled."""
+    contact edges (node index pairs: the lines of physical tag contact_label), body of each node, and every labelled
+    line's edges by label: {label: [(node, node), ...]}). A node of several bodies' triangles is doubled."""
     with open(path) as f:
         lines = [line.strip() for line in f]
     k = lines.index("$Nodes")
@@ -111,7 +111,7 @@ def read_bodies(path):
     for label, (a, b) in edges:
         for body in owner[frozenset((a, b))]:
             by_label.setdefault(label, []).append((node(body, a), node(body, b)))
-    return np.array(X), tris, np.array(by_label[1]), np.array(node_body), by_label
+    return np.array(X), tris, np.array(by_label[contact_label]), np.array(node_body), by_label
 
 
 def assemble(X, tris, lam, mu, rho):

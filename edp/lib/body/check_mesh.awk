@@ -8,8 +8,8 @@
 # every triangle counter-clockwise with a positive area, every node in a triangle,
 # and every node in one plane z = const (a 2D mesh). With -v dimension=3 (edp/run.sh
 # found tetrahedra in it): triangles are the boundary's faces, and the body is its 4-node
-# tetrahedra (type 4), each with a positive volume, every node in one. In both, the body is one:
-# its cells carry one physical label and form one piece.
+# tetrahedra (type 4), each with a positive volume, every node in one. In both, each physical label of the cells
+# (a gmsh Physical Surface, 3D Physical Volume) is one body: its cells form one piece, and no node is in two bodies.
 function fail(msg) { printf "error: -mesh %s: %s\n", name, msg; failed = 1; exit 3 }
 # an edge's (a face's) key from its sorted node ids: a number while it stays exact in double precision (awk indexes
 # numbers faster than strings), else a string; keyNodes and keyBase are set from $Nodes
@@ -33,7 +33,12 @@ function keyCorners(key, corner) {      # the sorted node ids of a key, into cor
 }
 # the body's cells' labels (a gmsh Physical Surface, 3D Physical Volume, is one body) and its pieces: nodes joined by
 # a cell are one piece (union-find)
-function cellLabel(l) { if (!(l in labelCells)) labels[++nLabels] = l; labelCells[l]++ }
+function cellLabel(l) { if (!(l in labelCells)) labels[++nLabels] = l; labelCells[l]++; cellLabelNow = l }
+# a node of the current cell: in no other body's cell (bodies that share a node would be glued at it)
+function nodeOfBody(k) {
+  if (!(k in nodeLabel)) nodeLabel[k] = cellLabelNow
+  else if (nodeLabel[k] != cellLabelNow && !sharedNode) { sharedNode = k; sharedLabels = nodeLabel[k] " and " cellLabelNow }
+}
 function root(k) { while (parent[k] != k) { parent[k] = parent[parent[k]]; k = parent[k] }; return k }
 function joinCell(a, b, c, d,   r, s) {
   r = root(a + 0)
@@ -114,7 +119,7 @@ section == "Elements" {
   if (type == 2 && dimension == 3) labelled[faceKey($(NF - 2), $(NF - 1), $NF)] = 1
   if (type == 4) {
     a = $(NF - 3); b = $(NF - 2); c = $(NF - 1); d = $NF
-    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, d)
+    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, d); nodeOfBody(a); nodeOfBody(b); nodeOfBody(c); nodeOfBody(d)
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1; inTriangle[d] = 1
     ux = X[b] - X[a]; uy = Y[b] - Y[a]; uz = Z[b] - Z[a]; vx = X[c] - X[a]; vy = Y[c] - Y[a]; vz = Z[c] - Z[a]
     wx = X[d] - X[a]; wy = Y[d] - Y[a]; wz = Z[d] - Z[a]
@@ -127,7 +132,7 @@ section == "Elements" {
   if (type == 2 && dimension == 3) { read++; next }
   if (type == 2) {
     a = $(NF - 2); b = $(NF - 1); c = $NF
-    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, "")
+    cellLabel(ntags >= 1 ? $4 + 0 : 0); joinCell(a, b, c, ""); nodeOfBody(a); nodeOfBody(b); nodeOfBody(c)
     inTriangle[a] = 1; inTriangle[b] = 1; inTriangle[c] = 1
     area = ((X[b] - X[a]) * (Y[c] - Y[a]) - (X[c] - X[a]) * (Y[b] - Y[a])) / 2
     scale = (X[b] - X[a])^2 + (Y[b] - Y[a])^2 + (X[c] - X[a])^2 + (Y[c] - Y[a])^2
@@ -170,18 +175,18 @@ END {
     where = (n == 3) ? "face " point(corner[1]) ", " point(corner[2]) ", " point(corner[3]) : "edge from " point(corner[1]) " to " point(corner[2])
     fail(unlabelled " of the " boundary " boundary " ((dimension == 3) ? "faces" : "edges") " carry no " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " label, such as the " where ": every boundary " ((dimension == 3) ? "face" : "edge") " needs one (Gamma_C's, Gamma_D's or a traction-free label: docs/geometry.md); add them to the .geo's " ((dimension == 3) ? "Physical Surface" : "Physical Curve") " lines")
   }
-  # one body: one label on its cells, in one piece (several bodies would meet as one glued body, or pass through each
-  # other, since no contact between bodies is modelled)
-  if (nLabels > 1) {
-    text = ""
-    for (i = 1; i <= nLabels; i++) text = text (i > 1 ? (i == nLabels ? " and " : ", ") : "") labels[i] " (" labelCells[labels[i]] " " cells ")"
-    fail("its " cells " carry " nLabels " " ((dimension == 3) ? "Physical Volume" : "Physical Surface") " labels, " text ", so it holds " nLabels " bodies; a run takes one body (contact between bodies is not modelled, and bodies that share nodes would be glued into one): give the body's " cells " one label")
+  # each label of the cells is one body (docs/bodies.md): bodies share no node (they would be glued there), and each is
+  # one piece (pieces apart would pass through each other: contact is between bodies, not within one)
+  volumeWord = (dimension == 3) ? "Physical Volume" : "Physical Surface"
+  if (sharedNode)
+    fail("node " sharedNode " " point(sharedNode) " is in the " cells " of two bodies, " volumeWord " labels " sharedLabels ": each body needs its own nodes (bodies that share a node are glued there); draw the touching bodies with their own points and curves, with Geometry.AutoCoherence = 0; in the .geo (meshes/bars.geo), or give the " cells " one label")
+  for (i = 1; i <= nNodes; i++) if ((k = nodeId[i]) in inTriangle) {
+    r = root(k + 0)
+    if (!(r in pieceAt)) { pieceAt[r] = k; l = nodeLabel[k]; if (++labelPieces[l] == 1) labelFirst[l] = k; else if (!splitSet) { splitSet = 1; splitLabel = l; splitSecond = k } }
   }
-  for (i = 1; i <= nNodes; i++) if ((k = nodeId[i]) in inTriangle) { r = root(k + 0); if (!(r in pieceAt)) { pieceAt[r] = k; pieces++ } }
-  if (pieces > 1) {
-    n = 0
-    for (r in pieceAt) { n++; if (n == 1) first = pieceAt[r]; else if (n == 2) second = pieceAt[r] }
-    fail("its " cells " form " pieces " pieces that share no node, one at " point(first) ", another at " point(second) "; a run takes one body in one piece (pieces apart would pass through each other, since contact between bodies is not modelled)")
+  if (splitSet) {
+    n = labelPieces[splitLabel]
+    fail("the body of " volumeWord " label " splitLabel " is " n " pieces that share no node, one at " point(labelFirst[splitLabel]) ", another at " point(splitSecond) "; a body is one piece (pieces apart would pass through each other: contact is between bodies): give each piece its own label")
   }
   for (i = 1; i <= nNodes; i++) if (!((k = nodeId[i]) in inTriangle)) {
     at = "(at " X[k] ", " Y[k] ((dimension == 3) ? ", " Z[k] : "") ")"
