@@ -43,7 +43,7 @@ def main():
         elif run.returncode == 4 and "inverted" in run.stderr:
             step, t = run.stderr.split("newton failed at step ")[1].split(":")[0].split(", t = ")
             outcome = f"collapses at step {step}, t = {t} (inverted triangle, exit 4)"
-        elif run.returncode == 3 and "not supported yet" in run.stderr:    # (a scene whose physics svk lacks: friction)
+        elif run.returncode == 3 and ("not supported yet" in run.stderr or "not available" in run.stderr):   # (what svk lacks: friction, bodies)
             print(f"| `{scene}` | refused: {run.stderr.strip().removeprefix('error: ')} | | | |", flush=True)
             continue
         else:
