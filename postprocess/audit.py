@@ -16,7 +16,7 @@ them; a failure names the check, the column, the step and the size of the differ
              rises from a step to the next (D friction's work, W a belt's), to round-off (IPOPT: its -tol;
              Newton: -newton_tol)
   bodies     several bodies: E^{n+1} - E^n = rows_work (the mid-point identity with the step's rows at u^n) to
-             round-off; without load and foundation the momentum_x and momentum_y constant to 1e-12 of the bodies'
+             round-off (IPOPT: its -tol, as energy); without load and foundation the momentum_x and momentum_y constant to 1e-12 of the bodies'
   friction   D never decreases; Coulomb |T| <= F N and Tresca |T| <= g |Gamma_C| in totals, in the foundation's
              frame where it is flat (tilted or not)
   snapshots  a snapshot_t<t>.csv for every snapshot time up to the last row, its displacement at the reference
@@ -314,7 +314,7 @@ class Run:
         speed += math.sqrt(2 * max(max(abs(e) for e in self.col("energy")), 0.0) / mass)
         # ... and (2)'s, v^{n+1} = 2 (u^{n+1} - u^n) / dt - v^n: the round-off of u (its size U: the lift and the
         # reference point's displacement) over dt, which a body at rest under a vanishing load shows alone
-        size = max(abs(float(self.p.get(k, "0"))) for k in ("u0x", "u0y", "u0z"))
+        size = max(abs(float(v)) for k in ("u0x", "u0y", "u0z") for v in self.p.get(k, "0").split(","))   # (a list: per body)
         size += max(max(abs(x) for x in self.col(c)) for c in self.header if c in ("u1_low", "u2_low", "u3_low"))
         tol = (self.solver_round_off() * scale + mass * MOMENTUM_ROUND_OFF * speed / self.dt
                + mass * MOMENTUM_ROUND_OFF * 10 * size / self.dt ** 2)
@@ -354,6 +354,9 @@ class Run:
         m, work = self.col("modified_energy"), self.col("rows_work")
         scale = max(max(abs(x) for x in m), max(abs(x) for x in self.col("energy")), 1e-300)
         allowed = ENERGY_ROUND_OFF * scale
+        if self.p.get("solver") == "ipopt":     # (its stationarity and complementarity to -tol: as check_energy)
+            tol = float(self.p.get("tol", "1e-8"))
+            allowed = max(ENERGY_ROUND_OFF, tol) * scale + 100 * tol * max(1.0, max(self.col("body_contact_nodes")))
         worst, where = 0.0, 0
         for n in range(1, len(m)):
             if abs(m[n] - m[n - 1] - work[n]) > worst:
@@ -365,16 +368,21 @@ class Run:
         loads = [float(self.p.get(k, "0")) for k in ("fx", "fy")]
         if self.p.get("foundation") != "none" or any(loads):
             return
+        mass = float(self.p["rho"]) * self.volume
         speeds = [abs(x) for b in self.bodies for k in (1, 2) for x in self.col(f"body{b}_v{k}_mean")]
-        momentum_scale = float(self.p["rho"]) * self.volume * max(max(speeds), 1e-300)
+        momentum_scale = mass * max(max(speeds), 1e-300)
+        # ... and, as check_momentum's, (2)'s round-off of u over dt (its size: the lifts and the bodies' displacements)
+        size = max(abs(float(v)) for k in ("u0x", "u0y") for v in self.p.get(k, "0").split(","))
+        size += max(abs(x) for b in self.bodies for k in (1, 2) for x in self.col(f"body{b}_u{k}_mean"))
+        tol = MOMENTUM_ROUND_OFF * (momentum_scale + mass * 10 * size / self.dt)
         for k in ("x", "y"):
             p = self.col(f"momentum_{k}")
             drift = max(abs(x - p[0]) for x in p)
-            if drift > 1e-12 * momentum_scale:
+            if drift > tol:
                 n = max(range(len(p)), key=lambda i: abs(p[i] - p[0]))
                 self.fail("momentum", f"momentum_{k} moves by {drift:.3g} from its start to {self.at(n)}, without load or "
-                                      f"foundation (tolerance {1e-12 * momentum_scale:.3g}, 1e-12 of the bodies' momentum "
-                                      f"{momentum_scale:.6g})")
+                                      f"foundation (tolerance {tol:.3g}: 1e-12 of the bodies' momentum "
+                                      f"{momentum_scale:.6g}, and of the round-off of u over dt)")
 
     def check_energy(self):
         p = self.p

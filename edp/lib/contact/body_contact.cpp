@@ -5,8 +5,10 @@
 // and master body q, the weighted gap
 //     g_j = int_{Gamma_p} phi_j (x_p - x_q(pi(x_p))) . n_q ds >= 0
 // over body p's segments that face body q's, x_q(pi) the closest point of the master segment and n_q its outward
-// normal, phi_j the biorthogonal (dual) basis 2 N_a - N_b, 2 N_b - N_a of the slave segment, by 3-point Gauss
-// quadrature on each piece of a slave segment that a master segment covers (its ends projected). The segments,
+// normal, phi_j the biorthogonal (dual) basis of the slave segment (2 N_a - N_b, 2 N_b - N_a where the master body
+// covers it whole; on the covered part where it covers a part), by 3-point Gauss
+// quadrature on each piece of a slave segment that a master segment covers (between its ends projected onto the
+// slave segment). The segments,
 // their overlaps, the normals and the closest points are frozen in the configuration given (the current one, or
 // the step's iterate), so that g_j is linear in the displacement y = u^{n+1}: a row  c_j . y <= h_j. Each row's
 // coefficients sum to int phi_j n on both bodies with opposite signs, so its force -c_j' lm_j is equal and opposite
@@ -17,8 +19,8 @@
 //       geometry: [X1 (N), X2 (N), x1 (N), x2 (N)]: the nodes' reference and current coordinates (N nodes);
 //       segments: [a, b, c, body] per boundary segment: its two nodes, the third node of its triangle (inside the
 //                 body), its body (0, 1, ...);
-//       settings: [the search distance: a master segment farther than it from the slave piece, in front or behind
-//                 (its far side), is no candidate];
+//       settings: [the search distance: a slave segment takes the pieces of a master body that covers it when one
+//                 of them is within it; a piece farther behind the master (its far side, through the body) is none];
 //       a pair of segments whose outward normals are more than 60 degrees from opposite does not face: no row;
 //       out: resized to [n, then per row: slave node, master body, h, entries, (node, c_x, c_y) per entry].
 //       Candidates come from a bucket grid of the master segments (cells of the search distance's size at least).
@@ -61,7 +63,7 @@ Segments readSegments(KN< double > *geometry, KN< long > *segments) {
   return s;
 }
 
-// The master segments by bucket of a grid of cell size h (their bounding boxes grown by the search distance).
+// The master segments by bucket of a grid of cell size h (their bounding boxes grown by twice the search distance).
 struct Grid {
   double h, x0, y0;
   std::unordered_map< long long, std::vector< long > > cells;
@@ -81,8 +83,9 @@ Grid gridOf(const Segments &s, double distance) {
   if (!(g.h > 0)) g.h = 1;
   g.x0 = x0 - 2 * g.h;  g.y0 = y0 - 2 * g.h;
   for (long k = 0; k < s.n; ++k) {
-    double lx = std::min(s.x1[s.a[k]], s.x1[s.b[k]]) - distance, hx = std::max(s.x1[s.a[k]], s.x1[s.b[k]]) + distance;
-    double ly = std::min(s.x2[s.a[k]], s.x2[s.b[k]]) - distance, hy = std::max(s.x2[s.a[k]], s.x2[s.b[k]]) + distance;
+    double grow = 2 * distance;     // (a slave segment near a master body takes the body's covering pieces beyond it)
+    double lx = std::min(s.x1[s.a[k]], s.x1[s.b[k]]) - grow, hx = std::max(s.x1[s.a[k]], s.x1[s.b[k]]) + grow;
+    double ly = std::min(s.x2[s.a[k]], s.x2[s.b[k]]) - grow, hy = std::max(s.x2[s.a[k]], s.x2[s.b[k]]) + grow;
     for (long i = g.cellOf(lx, g.x0); i <= g.cellOf(hx, g.x0); ++i)
       for (long j = g.cellOf(ly, g.y0); j <= g.cellOf(hy, g.y0); ++j) g.cells[g.key(i, j)].push_back(k);
   }
@@ -117,44 +120,86 @@ long bodyContactRows(KN< double > *const &geometry, KN< long > *const &segments,
   // rows by (slave node, master body), in that order; each row's entries by node
   std::map< std::pair< long, long >, std::map< long, std::pair< double, double > > > entries;
   std::map< std::pair< long, long >, double > bound;
+  struct Piece { long m; double s0, s1, sq[3], eta[3]; };
   for (long k = 0; k < s.n; ++k) {
     long sa = s.a[k], sb = s.b[k];
     double xa = s.x1[sa], ya = s.x2[sa], dx = s.x1[sb] - xa, dy = s.x2[sb] - ya, dd = dx * dx + dy * dy, len = std::sqrt(dd);
+    // the pieces of this slave segment that master segments cover, and by master body the smallest |gap| at their
+    // points: a body is taken whole (every piece of it) when that is within the search distance, so that a slave
+    // segment near it is covered as far as the body covers it (a piece left out would leave the dual basis, which is
+    // negative on part of the segment, a weighted gap of the wrong sign)
+    std::vector< Piece > pieces;
+    std::map< long, double > nearest;
     for (long m : candidates(s, g, k, true)) {
       double nx = s.nx[m], ny = s.ny[m];
       if (nx * s.nx[k] + ny * s.ny[k] > -0.5) continue;     // (surfaces that do not face each other, within 60 degrees)
       long ma = s.a[m], mb = s.b[m];
-      double pa = ((s.x1[ma] - xa) * dx + (s.x2[ma] - ya) * dy) / dd, pb = ((s.x1[mb] - xa) * dx + (s.x2[mb] - ya) * dy) / dd;
-      double s0 = std::max(std::min(pa, pb), 0.), s1 = std::min(std::max(pa, pb), 1.);
-      if (s1 - s0 <= 1e-14) continue;
+      // the piece [s0, s1] of the slave segment between the master segment's ends projected onto it (the master
+      // segments of a body cover the slave segment without gap or overlap), and at each point the closest point of
+      // the master segment, eta(s) = eta0 + s deta clipped to [0, 1]
       double ex = s.x1[mb] - s.x1[ma], ey = s.x2[mb] - s.x2[ma], ee = ex * ex + ey * ey;
-      double sq[3], eta[3], gapNow[3];
-      bool near = false;
+      double eta0 = ((xa - s.x1[ma]) * ex + (ya - s.x2[ma]) * ey) / ee, deta = (dx * ex + dy * ey) / ee;
+      double sA = ((s.x1[ma] - xa) * dx + (s.x2[ma] - ya) * dy) / dd, sB = ((s.x1[mb] - xa) * dx + (s.x2[mb] - ya) * dy) / dd;
+      Piece p;
+      p.m = m;
+      p.s0 = std::max(std::min(sA, sB), 0.);  p.s1 = std::min(std::max(sA, sB), 1.);
+      if (p.s1 - p.s0 <= 1e-14) continue;
+      double closest = 1e300;
+      bool farSide = false;
       for (int q = 0; q < 3; ++q) {
-        sq[q] = s0 + (s1 - s0) * gaussPoint[q];
-        double px = xa + sq[q] * dx, py = ya + sq[q] * dy;
-        eta[q] = std::min(1., std::max(0., ((px - s.x1[ma]) * ex + (py - s.x2[ma]) * ey) / ee));
-        gapNow[q] = (px - s.x1[ma] - eta[q] * ex) * nx + (py - s.x2[ma] - eta[q] * ey) * ny;
-        near = near || std::abs(gapNow[q]) <= distance;    // (a gap below -distance: the master's far side)
+        p.sq[q] = p.s0 + (p.s1 - p.s0) * gaussPoint[q];
+        double px = xa + p.sq[q] * dx, py = ya + p.sq[q] * dy;
+        p.eta[q] = std::min(1., std::max(0., eta0 + p.sq[q] * deta));
+        double gap = (px - s.x1[ma] - p.eta[q] * ex) * nx + (py - s.x2[ma] - p.eta[q] * ey) * ny;
+        farSide = farSide || gap < -distance;              // (the master's far side, through the body)
+        closest = std::min(closest, std::abs(gap));
       }
-      if (!near) continue;
-      std::pair< long, long > rowA(sa, s.body[m]), rowB(sb, s.body[m]);
-      for (int q = 0; q < 3; ++q) {
-        double w = gaussWeight[q] * (s1 - s0) * len, t = sq[q], e = eta[q];
-        double gapRef = (s.X1[sa] + t * (s.X1[sb] - s.X1[sa]) - s.X1[ma] - e * (s.X1[mb] - s.X1[ma])) * nx
-                        + (s.X2[sa] + t * (s.X2[sb] - s.X2[sa]) - s.X2[ma] - e * (s.X2[mb] - s.X2[ma])) * ny;
-        const std::pair< long, long > rows[2] = {rowA, rowB};
-        const double phi[2] = {2 - 3 * t, 3 * t - 1};           // the dual basis of the slave segment
-        const long nodes[4] = {sa, sb, ma, mb};
-        const double shape[4] = {-(1 - t), -t, 1 - e, e};      // -N on the slave, +N on the master
-        for (int r = 0; r < 2; ++r) {
-          std::map< long, std::pair< double, double > > &row = entries[rows[r]];
-          for (int i = 0; i < 4; ++i) {
-            double c = w * phi[r] * shape[i];
-            row[nodes[i]].first += c * nx;
-            row[nodes[i]].second += c * ny;
+      if (farSide) continue;
+      pieces.push_back(p);
+      long body = s.body[m];
+      nearest[body] = nearest.count(body) ? std::min(nearest[body], closest) : closest;
+    }
+    // by master body near it: the dual basis of the part of the slave segment the body covers (consistent dual
+    // shape functions, Cichosz and Bischoff 2011): phi_r = A_r0 N_a + A_r1 N_b, A = D M^-1 with M_ij = int N_i N_j and
+    // D = diag(int N_j) over the covered pieces, so that int phi_r N_j = delta_rj int N_j there. On a segment covered
+    // whole, phi_a = 2 N_a - N_b; on a part, the weighted gap keeps the sign of the gap's nodal values (a piece
+    // missing would otherwise leave a gap of the wrong sign: the whole segment's dual basis is negative on a third)
+    for (auto &nb : nearest) {
+      if (nb.second > distance) continue;
+      long body = nb.first;
+      double M00 = 0, M01 = 0, M11 = 0, D0 = 0, D1 = 0;
+      for (const Piece &p : pieces) {
+        if (s.body[p.m] != body) continue;
+        for (int q = 0; q < 3; ++q) {
+          double w = gaussWeight[q] * (p.s1 - p.s0) * len, t = p.sq[q];
+          M00 += w * (1 - t) * (1 - t);  M01 += w * (1 - t) * t;  M11 += w * t * t;  D0 += w * (1 - t);  D1 += w * t;
+        }
+      }
+      double det = M00 * M11 - M01 * M01;
+      if (!(det > 1e-12 * (M00 + M11) * (M00 + M11))) continue;     // (a sliver of the segment covered: no row from it)
+      const double A[2][2] = {{D0 * M11 / det, -D0 * M01 / det}, {-D1 * M01 / det, D1 * M00 / det}};
+      std::pair< long, long > rowA(sa, body), rowB(sb, body);
+      for (const Piece &p : pieces) {
+        if (s.body[p.m] != body) continue;
+        long m = p.m, ma = s.a[m], mb = s.b[m];
+        double nx = s.nx[m], ny = s.ny[m];
+        for (int q = 0; q < 3; ++q) {
+          double w = gaussWeight[q] * (p.s1 - p.s0) * len, t = p.sq[q], e = p.eta[q];
+          double gapRef = (s.X1[sa] + t * (s.X1[sb] - s.X1[sa]) - s.X1[ma] - e * (s.X1[mb] - s.X1[ma])) * nx
+                          + (s.X2[sa] + t * (s.X2[sb] - s.X2[sa]) - s.X2[ma] - e * (s.X2[mb] - s.X2[ma])) * ny;
+          const std::pair< long, long > rows[2] = {rowA, rowB};
+          const double phi[2] = {A[0][0] * (1 - t) + A[0][1] * t, A[1][0] * (1 - t) + A[1][1] * t};   // the dual basis
+          const long nodes[4] = {sa, sb, ma, mb};
+          const double shape[4] = {-(1 - t), -t, 1 - e, e};      // -N on the slave, +N on the master
+          for (int r = 0; r < 2; ++r) {
+            std::map< long, std::pair< double, double > > &row = entries[rows[r]];
+            for (int i = 0; i < 4; ++i) {
+              double c = w * phi[r] * shape[i];
+              row[nodes[i]].first += c * nx;
+              row[nodes[i]].second += c * ny;
+            }
+            bound[rows[r]] += w * phi[r] * gapRef;
           }
-          bound[rows[r]] += w * phi[r] * gapRef;
         }
       }
     }
