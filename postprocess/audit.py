@@ -186,17 +186,21 @@ def expected_columns(p, dimension, bodies=(1,)):
     return cols
 
 
-def body_labels(run):
-    """The labels of the bodies of the mesh the run saved, in increasing order: its triangles' region labels (mesh.msh;
-    a 3D run's mesh.mesh holds one body)."""
+def body_areas(run):
+    """{label: area} of the bodies of the mesh the run saved, by their triangles' region labels (mesh.msh; a 3D run's
+    mesh.mesh holds one body: {1: None})."""
     path = os.path.join(run, "mesh.msh")
     if not os.path.exists(path):
-        return [1]
+        return {1: None}
+    areas = {}
     with open(path) as f:
         nv, nt, _ = (int(x) for x in f.readline().split())
-        for _ in range(nv):
-            f.readline()
-        return sorted({int(f.readline().split()[3]) for _ in range(nt)})
+        xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
+        for _ in range(nt):
+            i, j, k, label = f.readline().split()[:4]
+            a, b, c = xy[int(i) - 1], xy[int(j) - 1], xy[int(k) - 1]
+            areas[int(label)] = areas.get(int(label), 0.0) + abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
+    return dict(sorted(areas.items()))
 
 
 class Run:
@@ -213,7 +217,11 @@ class Run:
         if not self.rows:
             raise Failure("history.csv has no row")
         self.volume, self.boundary, self.dimension = mesh_measures(path)
-        self.bodies = body_labels(path)
+        areas = body_areas(path)
+        self.bodies = list(areas)
+        # the mass, rho |body| (several bodies: a -rho list gives each its own, in the order of their labels)
+        rhos = [float(r) for r in self.p["rho"].split(",")]
+        self.mass = (sum(r * a for r, a in zip(rhos, areas.values())) if len(rhos) > 1 else rhos[0] * self.volume)
         self.dt = float(self.p["dt"])
 
     def col(self, name):
@@ -295,8 +303,7 @@ class Run:
     def check_momentum(self):
         if self.p.get("dirichlet_label", "0") not in ("0", ""):
             return          # Gamma_D's reaction is not a column
-        rho = float(self.p["rho"])
-        mass = rho * self.volume
+        mass = self.mass
         up = "xyz"[self.dimension - 1]
         loads = {"x": float(self.p["fx"]), "y": float(self.p["fy"])}
         if self.dimension == 3:
@@ -368,7 +375,7 @@ class Run:
         loads = [float(self.p.get(k, "0")) for k in ("fx", "fy")]
         if self.p.get("foundation") != "none" or any(loads):
             return
-        mass = float(self.p["rho"]) * self.volume
+        mass = self.mass
         speeds = [abs(x) for b in self.bodies for k in (1, 2) for x in self.col(f"body{b}_v{k}_mean")]
         momentum_scale = mass * max(max(speeds), 1e-300)
         # ... and, as check_momentum's, (2)'s round-off of u over dt (its size: the lifts and the bodies' displacements)

@@ -87,6 +87,24 @@ def test_ipopt_agrees_with_the_active_set(bars, tmp_path):
     assert np.abs(h["energy"] - bars["energy"]).max() <= 1e-5 * bars["energy"][0]
 
 
+def test_bars_of_two_materials_press_with_their_impedances(bars, tmp_path):
+    """Per-body materials (-mu 50,200: c = 10 and 20, impedances Z = rho c = 10 and 20): until the stiffer bar's release
+    wave returns (t = 2L/c_2 = 1), the force between them is Z1 Z2 / (Z1 + Z2) (2 v0) x height = 0.1333, the 1D wave
+    solution; its mean over t in (0.2, 0.8) within 5% (h 0.5, dt 0.025), the momentum to 1e-12 of m v0. Lists of equal
+    values give the scalars' history byte for byte (the P0 fields hold the same numbers)."""
+    out = tmp_path / "materials"
+    run_scene("bars", out, ["-mu", "50,200", "-dt", "0.025", "-progress", "0"])
+    h = history(out)
+    window = (h["t"] > 0.2) & (h["t"] < 0.8)
+    assert abs(h["body_contact_force"][window].mean() - 0.4 / 3) <= 0.05 * 0.4 / 3
+    assert np.abs(h["momentum_x"]).max() <= 1e-12 * 0.1
+    same = tmp_path / "same"
+    run_scene("bars", same, ["-mu", "50,50", "-rho", "1,1", "-lambda", "0,0", "-T", "0.5", "-progress", "0"])
+    scalar = tmp_path / "scalar"
+    run_scene("bars", scalar, ["-T", "0.5", "-progress", "0"])
+    assert (same / "history.csv").read_bytes() == (scalar / "history.csv").read_bytes()
+
+
 def test_the_short_bar_stops_and_the_long_one_carries_the_momentum(bars_1_2):
     """Bars L and 2L, the short one striking the long one at rest: after 2L/c = 2 the short bar is at rest and the long
     one carries all the momentum, m v0 = 0.1, so its mean velocity is v0 / 2, exactly; here within 2% of v0 (h = 0.5,
@@ -163,6 +181,8 @@ REFUSED = {
     "a list on a mesh of one body": ("test1", ["-v0x", "0.1,0.2"], "-v0x 0.1,0.2 gives 2 values, and -mesh "),
     "an empty value in a list": ("bars", ["-v0x", "0.01,"], "-v0x 0.01, has an empty value"),
     "a value that is not a number": ("bars", ["-v0x", "0.01,x"], "-v0x must be a number, got 'x'"),
+    "a body's mu not positive": ("bars", ["-mu", "50,-1"], "-mu must be > 0 (body 2), got -1"),
+    "a body's lambda + mu not positive": ("bars", ["-lambda", "0,-60"], "-lambda must be > -mu (lambda + mu > 0) (body 2)"),
     "several bodies under Newmark": ("bars", ["-scheme", "newmark"], "with -scheme newmark: it is the mid-point"),
     "several bodies with P2": ("bars", ["-order", "2"], "with -order 2 yet"),
     "several bodies on the exact gap": ("disk_on_disk", ["-gap", "exact", "-mesh", "meshes/two_disks_coarse.msh"],
