@@ -51,7 +51,7 @@ endif
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*/*.idp edp/lib/*/*.awk edp/lib/*/*.sh edp/lib/*/*.txt edp/lib/*/*.opt)
 RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
-MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh meshes/two_disks_coarse.msh
+MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh meshes/two_disks_coarse.msh meshes/cradle_coarse.msh
 
 .PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check hostile same-results bench accuracy stress svk csm3 hertz methods friction sliding scenes clean
 .DELETE_ON_ERROR:

@@ -175,6 +175,19 @@ def test_a_disk_falls_onto_a_disk_on_the_foundation(disk_on_disk):
     assert h["body_contact_force"][-1] > 0
 
 
+def test_a_cradle_of_three_disks_passes_the_momentum_along(tmp_path):
+    """Three disks in a row (meshes/cradle.geo, coarse), the first struck at 0.1 towards the others: the middle disk
+    is a master to the first and a slave to the third, and each pair's forces cancel, so the total momentum stays
+    m v0 to 1e-12; after t = 1.5 the last disk carries it nearly whole (0.98 v0) and the first nearly stops."""
+    out = tmp_path / "cradle"
+    run_scene("cradle", out, ["-mesh", "meshes/cradle_coarse.msh", "-T", "1.5", "-progress", "0"], cwd=ROOT)
+    h = history(out)
+    p0 = h["momentum_x"][0]
+    assert np.abs(h["momentum_x"] - p0).max() <= 1e-12 * p0
+    assert h["body3_v1_mean"][-1] > 0.95 * 0.1 and abs(h["body1_v1_mean"][-1]) < 0.1 * 0.1
+    assert h["body_contact_nodes"].max() >= 4
+
+
 REFUSED = {
     "a list of the wrong length": ("bars", ["-v0x", "0.01,-0.01,0"],
                                    "-v0x 0.01,-0.01,0 gives 3 values, and -mesh meshes/bars.msh holds 2 bodies"),
