@@ -44,6 +44,27 @@ def test_bars_conserve_momentum_to_round_off(bars):
     assert bars["body_contact_nodes"].max() == 3 and bars["body_contact_force"].max() > 0
 
 
+def test_the_snapshots_show_the_pressure_between_bodies(tmp_path):
+    """A snapshot of several bodies carries body_pressure, each row's multiplier at its slave node: with dual
+    multipliers a pressure, so over the touching end's three nodes, weighted by their dual functions' integrals (half
+    of each adjacent end segment's length, deformed), it sums to history.csv's body_contact_force at that time, to
+    1e-4 (the master end covers the slave end but for about 3e-5 of its length, deformed differently, and the dual
+    functions integrate over the part covered)."""
+    import meshio
+    out = tmp_path / "snap"
+    run_scene("bars", out, ["-snapshots", "1", "-T", "1", "-progress", "0"])
+    vtu = meshio.read(out / "vonmises_t1.vtu")
+    p = vtu.point_data["body_pressure"].ravel()
+    pressed = np.nonzero(p > 0)[0]
+    assert len(pressed) == 3 and np.abs(vtu.points[pressed, 0]).max() < 1e-9      # (the slave bar's end, at X1 = 0)
+    pressed = pressed[np.argsort(vtu.points[pressed, 1])]
+    x = vtu.points[pressed, :2] + vtu.point_data["displacement"][pressed, :2]
+    half = np.hypot(*np.diff(x, axis=0).T) / 2                 # (the two end segments, deformed)
+    weights = np.array([half[0], half[0] + half[1], half[1]])
+    force = history(out)["body_contact_force"][-1]
+    assert abs(weights @ p[pressed] - force) <= 1e-4 * force
+
+
 def test_bars_energy_identity_and_prop_2(bars):
     """The mid-point identity E^{n+1} - E^n = lm . (C u^n - g) (rows_work; Prop. 2's proof), to round-off; rows_work
     <= 0 where u^n satisfies the rows the step ends with, and their linearisation about the result allows a rise of
