@@ -219,6 +219,8 @@ REFUSED = {
     "a body's lambda + mu not positive": ("bars", ["-lambda", "0,-60"], "-lambda must be > -mu (lambda + mu > 0) (body 2)"),
     "several bodies under Newmark": ("bars", ["-scheme", "newmark"], "with -scheme newmark: it is the mid-point"),
     "several bodies with P2": ("bars", ["-order", "2"], "with -order 2 yet"),
+    "several bodies on two processes": ("bars", ["-np", "2"], "holds 2 bodies, and contact between bodies is not "
+                                        "available on 2 processes: run it on one"),
     "several bodies on the exact gap": ("disk_on_disk", ["-gap", "exact", "-mesh", "meshes/two_disks_coarse.msh"],
                                         "with -gap exact on the foundation yet"),
 }
@@ -233,3 +235,19 @@ def test_refusals_of_several_bodies(tmp_path, earlier_run, case):
     errors = error_lines(p)
     assert p.returncode == 3 and len(errors) == 1 and message in errors[0], p.stderr
     assert not changed
+
+
+def test_two_3d_bodies_are_refused(tmp_path, earlier_run):
+    """Two cubes, one above the other, each its own Physical Volume: contact between 3D bodies is not built yet, and
+    the run says so in one line, exit 3, before anything of the earlier run changes."""
+    import subprocess
+    geo = tmp_path / "cubes.geo"
+    geo.write_text('SetFactory("OpenCASCADE");Geometry.AutoCoherence=0;Box(1)={0,0,0,1,1,1};Box(2)={0,0,1.5,1,1,1};'
+                   "Physical Volume(1)={1};Physical Volume(2)={2};Physical Surface(1)={1:12};Mesh.MeshSizeMax=0.5;\n")
+    subprocess.run(["gmsh", "-3", "-format", "msh22", str(geo), "-o", str(tmp_path / "cubes.msh")], check=True,
+                   capture_output=True)
+    p, changed = refused_into_copy(tmp_path, earlier_run, "ball", ["-mesh", str(tmp_path / "cubes.msh"), "-T", "0.1"])
+    errors = error_lines(p)
+    assert p.returncode == 3 and len(errors) == 1 and "holds 2 bodies" in errors[0] and "in 3D yet" in errors[0], p.stderr
+    assert not changed
+
