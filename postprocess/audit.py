@@ -171,7 +171,7 @@ def expected_columns(p, dimension, bodies=(1,)):
     cols = cols.split(",")
     if p.get("material", "linear") != "linear":
         cols.append("min_J")
-    if friction_acts(p):
+    if friction_acts(p) and len(bodies) == 1:
         cols += ["friction_work", "slip_nodes", "stick_nodes", "u1_mean", "u2_mean"]
         cols += (["angular_velocity_1", "angular_velocity_2", "angular_velocity_3"] if dimension == 3
                  else ["angular_velocity"])
@@ -183,6 +183,8 @@ def expected_columns(p, dimension, bodies=(1,)):
         for b in bodies:
             cols += [f"body{b}_u1_mean", f"body{b}_u2_mean", f"body{b}_v1_mean", f"body{b}_v2_mean"]
         cols += ["body_contact_force", "body_contact_nodes", "max_penetration_bodies", "rows_work", "linearisations"]
+        if friction_acts(p):          # (friction between the bodies: docs/bodies.md)
+            cols += ["body_friction_work", "body_slip_nodes", "body_stick_nodes"]
     return cols
 
 
@@ -358,7 +360,10 @@ class Run:
         and foundation, the total momentum conserved (each row's forces equal and opposite) to 1e-12 of the bodies'."""
         if len(self.bodies) < 2:
             return
-        m, work = self.col("modified_energy"), self.col("rows_work")
+        m, work = self.col("modified_energy"), list(self.col("rows_work"))
+        if "body_friction_work" in self.header:     # (E^{n+1} - E^n = rows_work - the step's friction work)
+            D = self.col("body_friction_work")
+            work = [w - (D[n] - D[n - 1] if n > 0 else 0.0) for n, w in enumerate(work)]
         scale = max(max(abs(x) for x in m), max(abs(x) for x in self.col("energy")), 1e-300)
         allowed = ENERGY_ROUND_OFF * scale
         if self.p.get("solver") == "ipopt":     # (its stationarity and complementarity to -tol: as check_energy)

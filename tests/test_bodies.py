@@ -209,6 +209,35 @@ def test_a_cradle_of_three_disks_passes_the_momentum_along(tmp_path):
     assert h["body_contact_nodes"].max() >= 4
 
 
+def test_oblique_disks_in_gross_slip_take_f_times_the_normal_impulse(tmp_path):
+    """Coulomb's friction between bodies (F = 0.3): two stiff disks (coarse) meet obliquely, sliding fast enough to slip
+    throughout (no row ever sticks). The impulse on the lower disk, its momentum's change resolved step by step along
+    the line of centres and across it, has its tangential part F times its normal part, within 1% (measured 0.30001);
+    the friction work grows and E^{n+1} - E^n = rows_work - (D^{n+1} - D^n), to round-off."""
+    out = tmp_path / "oblique"
+    run_scene("oblique_disks", out, ["-mesh", "meshes/two_disks_coarse.msh", "-progress", "0"], cwd=ROOT)
+    h = history(out)
+    assert h["body_stick_nodes"].max() == 0 and h["body_slip_nodes"].max() > 0
+    c1 = np.stack([h["body1_u1_mean"], 20 + h["body1_u2_mean"]])
+    c2 = np.stack([h["body2_u1_mean"], 62 + h["body2_u2_mean"]])
+    n = (c2 - c1) / np.hypot(*(c2 - c1))
+    n = (n[:, 1:] + n[:, :-1]) / 2                       # (the line of centres over each step)
+    dv = np.diff(np.stack([h["body1_v1_mean"], h["body1_v2_mean"]]), axis=1)
+    normal, tangential = (dv * n).sum(), (dv * np.stack([-n[1], n[0]])).sum()
+    assert abs(abs(tangential / normal) - 0.3) <= 0.01 * 0.3
+    D = h["body_friction_work"]
+    assert np.diff(D).min() >= 0 and D[-1] > 0
+    m = h["modified_energy"]
+    assert np.abs(np.diff(m) - h["rows_work"][1:] + np.diff(D)).max() <= 1e-10 * abs(m[0])
+
+
+def test_restart_with_friction_between_bodies_is_bit_identical(tmp_path):
+    """The oblique disks (coarse) run to t = 2.3, mid-contact, and restarted to 2.5 write the history and checkpoint of
+    one run to 2.5, byte for byte: the checkpoint keeps the friction work."""
+    restart_reproduces("oblique_disks", tmp_path, ["-mesh", os.path.join(ROOT, "meshes", "two_disks_coarse.msh"),
+                                                   "-progress", "0", "-checkpoint_every", "5"], 2.3, 2.5)
+
+
 REFUSED = {
     "a list of the wrong length": ("bars", ["-v0x", "0.01,-0.01,0"],
                                    "-v0x 0.01,-0.01,0 gives 3 values, and -mesh meshes/bars.msh holds 2 bodies"),
@@ -217,6 +246,12 @@ REFUSED = {
     "a value that is not a number": ("bars", ["-v0x", "0.01,x"], "-v0x must be a number, got 'x'"),
     "a body's mu not positive": ("bars", ["-mu", "50,-1"], "-mu must be > 0 (body 2), got -1"),
     "a body's lambda + mu not positive": ("bars", ["-lambda", "0,-60"], "-lambda must be > -mu (lambda + mu > 0) (body 2)"),
+    "friction between bodies and a foundation": ("disk_on_disk", ["-mesh", "meshes/two_disks_coarse.msh", "-friction",
+                                                 "coulomb", "-friction_coefficient", "0.2"], "and a foundation yet"),
+    "friction between bodies under IPOPT": ("oblique_disks", ["-mesh", "meshes/two_disks_coarse.msh", "-solver", "ipopt"],
+                                            "with -friction coulomb and -solver ipopt: use -solver activeset"),
+    "Tresca between bodies without its bound": ("oblique_disks", ["-mesh", "meshes/two_disks_coarse.msh", "-friction",
+                                                "tresca"], "-friction tresca needs -friction_bound g > 0"),
     "several bodies under Newmark": ("bars", ["-scheme", "newmark"], "with -scheme newmark: it is the mid-point"),
     "several bodies with P2": ("bars", ["-order", "2"], "with -order 2 yet"),
     "several bodies on two processes": ("bars", ["-np", "2"], "holds 2 bodies, and contact between bodies is not "

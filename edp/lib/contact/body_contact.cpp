@@ -22,7 +22,9 @@
 //       settings: [the search distance: a slave segment takes the pieces of a master body that covers it when one
 //                 of them is within it; a piece farther behind the master (its far side, through the body) is none];
 //       a pair of segments whose outward normals are more than 60 degrees from opposite does not face: no row;
-//       out: resized to [n, then per row: slave node, master body, h, entries, (node, c_x, c_y) per entry].
+//       out: resized to [n, then per row: slave node, master body, h, D = int phi_j, entries, then per entry: node,
+//            c_x, c_y (along the normal: the row), t_x, t_y (the same along the tangent t = (-n_y, n_x): the relative
+//            tangential displacement weighted as the gap, friction's row)].
 //       Candidates come from a bucket grid of the master segments (cells of the search distance's size at least).
 //   real d = bodyNodeOverlap(geometry, segments, settings, where)
 //       the largest overlap between bodies at a node (0 when none): over every node of a segment and every facing
@@ -31,6 +33,7 @@
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <unordered_map>
@@ -118,7 +121,9 @@ long bodyContactRows(KN< double > *const &geometry, KN< long > *const &segments,
   double distance = (*settings)[0];
   Grid g = gridOf(s, distance);
   // rows by (slave node, master body), in that order; each row's entries by node
-  std::map< std::pair< long, long >, std::map< long, std::pair< double, double > > > entries;
+  // (each entry: the coefficients along n, x and y, then along the tangent t = (-n_y, n_x), x and y)
+  std::map< std::pair< long, long >, std::map< long, std::array< double, 4 > > > entries;
+  std::map< std::pair< long, long >, double > weight;    // D_j = int phi_j (Tresca's bound is g D_j)
   std::map< std::pair< long, long >, double > bound;
   struct Piece { long m; double s0, s1, sq[3], eta[3]; };
   for (long k = 0; k < s.n; ++k) {
@@ -192,20 +197,21 @@ long bodyContactRows(KN< double > *const &geometry, KN< long > *const &segments,
           const long nodes[4] = {sa, sb, ma, mb};
           const double shape[4] = {-(1 - t), -t, 1 - e, e};      // -N on the slave, +N on the master
           for (int r = 0; r < 2; ++r) {
-            std::map< long, std::pair< double, double > > &row = entries[rows[r]];
+            std::map< long, std::array< double, 4 > > &row = entries[rows[r]];
             for (int i = 0; i < 4; ++i) {
               double c = w * phi[r] * shape[i];
-              row[nodes[i]].first += c * nx;
-              row[nodes[i]].second += c * ny;
+              std::array< double, 4 > &e = row[nodes[i]];
+              e[0] += c * nx;  e[1] += c * ny;  e[2] -= c * ny;  e[3] += c * nx;
             }
             bound[rows[r]] += w * phi[r] * gapRef;
+            weight[rows[r]] += w * phi[r];
           }
         }
       }
     }
   }
   long size = 1;
-  for (auto &row : entries) size += 4 + 3 * row.second.size( );
+  for (auto &row : entries) size += 5 + 5 * row.second.size( );
   out->resize(size);
   KN< double > &o = *out;
   long p = 0;
@@ -214,8 +220,9 @@ long bodyContactRows(KN< double > *const &geometry, KN< long > *const &segments,
     o[p++] = row.first.first;
     o[p++] = row.first.second;
     o[p++] = bound[row.first];
+    o[p++] = weight[row.first];
     o[p++] = row.second.size( );
-    for (auto &e : row.second) { o[p++] = e.first;  o[p++] = e.second.first;  o[p++] = e.second.second; }
+    for (auto &e : row.second) { o[p++] = e.first;  for (int k = 0; k < 4; ++k) o[p++] = e.second[k]; }
   }
   return entries.size( );
 }
