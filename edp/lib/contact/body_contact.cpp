@@ -6,15 +6,13 @@
 //     g_j = int_{Gamma_p} phi_j (x_p - x_q(pi(x_p))) . n_q ds >= 0
 // over body p's segments that face body q's, x_q(pi) the closest point of the master segment and n_q its outward
 // normal, phi_j the biorthogonal (dual) basis of the slave segment (2 N_a - N_b, 2 N_b - N_a where the master body
-// covers it whole; on the covered part where it covers a part), by 3-point Gauss
-// quadrature on each piece of a slave segment that a master segment covers (between its ends projected onto the
-// slave segment). The segments,
-// their overlaps, the normals and the closest points are frozen in the configuration given (the current one, or
-// the step's iterate), so that g_j is linear in the displacement y = u^{n+1}: a row  c_j . y <= h_j. Each row's
+// covers it whole; on the covered part where it covers a part), by 3-point Gauss quadrature on each piece of a slave
+// segment that a master segment covers (between its ends projected onto the slave segment). The segments, their
+// overlaps, the normals and the closest points are frozen in the configuration given (the current one, or the
+// step's iterate), so that g_j is linear in the displacement y = u^{n+1}: a row  c_j . y <= h_j. Each row's
 // coefficients sum to int phi_j n on both bodies with opposite signs, so its force -c_j' lm_j is equal and opposite
 // on the two bodies and the total momentum is conserved to round-off. Dual multipliers make the slave block of the
 // rows diagonal: a uniform pressure has lm_j = p at every node (the contact patch test, docs/bodies.md).
-//
 //   long n = bodyContactRows(geometry, segments, settings, out)
 //       geometry: [X1 (N), X2 (N), x1 (N), x2 (N)]: the nodes' reference and current coordinates (N nodes);
 //       segments: [a, b, c, body] per boundary segment: its two nodes, the third node of its triangle (inside the
