@@ -91,22 +91,28 @@ def vtu_array(text, name):
 
 
 def mesh_measures(run):
-    """(|body|, |Gamma_C|, dimension) from the mesh the run saved: mesh.msh (FreeFEM's 2D format) or mesh.mesh (medit,
-    3D); Gamma_C is the boundary with parameters.txt's -contact_label (a list of labels)."""
+    """(|body|, its boundary, dimension, {label: area} of its bodies) from the mesh the run saved: mesh.msh (FreeFEM's
+    2D format: the bodies by their triangles' region labels, docs/bodies.md) or mesh.mesh (medit, 3D: one body,
+    {1: |body|})."""
     if os.path.exists(os.path.join(run, "mesh.mesh")):
-        return medit_measures(os.path.join(run, "mesh.mesh")) + (3,)
+        volume, faces = medit_measures(os.path.join(run, "mesh.mesh"))
+        return volume, faces, 3, {1: volume}
+    areas = {}
     with open(os.path.join(run, "mesh.msh")) as f:
         nv, nt, ne = (int(x) for x in f.readline().split())
         xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
         area = 0.0
         for _ in range(nt):
-            a, b, c = (xy[int(x) - 1] for x in f.readline().split()[:3])
-            area += abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
+            i, j, k, label = f.readline().split()[:4]
+            a, b, c = xy[int(i) - 1], xy[int(j) - 1], xy[int(k) - 1]
+            cell = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
+            area += cell
+            areas[int(label)] = areas.get(int(label), 0.0) + cell
         edges = []
         for _ in range(ne):
             i, j, label = f.readline().split()[:3]
             edges.append((xy[int(i) - 1], xy[int(j) - 1], int(label)))
-    return area, edges, 2
+    return area, edges, 2, dict(sorted(areas.items()))
 
 
 def medit_measures(path):
@@ -188,23 +194,6 @@ def expected_columns(p, dimension, bodies=(1,)):
     return cols
 
 
-def body_areas(run):
-    """{label: area} of the bodies of the mesh the run saved, by their triangles' region labels (mesh.msh; a 3D run's
-    mesh.mesh holds one body: {1: None})."""
-    path = os.path.join(run, "mesh.msh")
-    if not os.path.exists(path):
-        return {1: None}
-    areas = {}
-    with open(path) as f:
-        nv, nt, _ = (int(x) for x in f.readline().split())
-        xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
-        for _ in range(nt):
-            i, j, k, label = f.readline().split()[:4]
-            a, b, c = xy[int(i) - 1], xy[int(j) - 1], xy[int(k) - 1]
-            areas[int(label)] = areas.get(int(label), 0.0) + abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
-    return dict(sorted(areas.items()))
-
-
 class Run:
     def __init__(self, path):
         self.path = path
@@ -218,8 +207,7 @@ class Run:
         self.header, self.rows = read_history(os.path.join(path, "history.csv"))
         if not self.rows:
             raise Failure("history.csv has no row")
-        self.volume, self.boundary, self.dimension = mesh_measures(path)
-        areas = body_areas(path)
+        self.volume, self.boundary, self.dimension, areas = mesh_measures(path)
         self.bodies = list(areas)
         # the mass, rho |body| (several bodies: a -rho list gives each its own, in the order of their labels)
         rhos = [float(r) for r in self.p["rho"].split(",")]
