@@ -115,7 +115,8 @@ def mesh_measures(run):
     return area, edges, 2, dict(sorted(areas.items()))
 
 
-def medit_measures(path):
+def medit_sections(path):
+    """A medit mesh's Vertices, Tetrahedra and Triangles, each a list of its lines' tokens."""
     with open(path) as f:
         tokens = f.read().split()
     sections, k = {}, 0
@@ -127,6 +128,11 @@ def medit_measures(path):
             k += 2 + width * n
         else:
             k += 1
+    return sections
+
+
+def medit_measures(path):
+    sections = medit_sections(path)
     xyz = [tuple(float(x) for x in v[:3]) for v in sections["Vertices"]]
     volume = 0.0
     for t in sections.get("Tetrahedra", []):
@@ -136,6 +142,50 @@ def medit_measures(path):
                       + u[2] * (v[0] * w[1] - v[1] * w[0])) / 6
     faces = [(tuple(xyz[int(x) - 1] for x in t[:3]), int(t[3])) for t in sections.get("Triangles", [])]
     return volume, faces
+
+
+def traction_resultant(run, label, pressure, dimension):
+    """The resultant of -traction's load, -p n integrated over Gamma_T (label): n the outward normal of each boundary
+    edge (3D: face), away from its cell's other vertex; per component."""
+    total = [0.0] * dimension
+    if dimension == 3:
+        sections = medit_sections(os.path.join(run, "mesh.mesh"))
+        xyz = [tuple(float(x) for x in v[:3]) for v in sections["Vertices"]]
+        other = {}
+        for t in sections.get("Tetrahedra", []):
+            ids = [int(x) - 1 for x in t[:4]]
+            for i in range(4):
+                other[tuple(sorted(ids[:i] + ids[i + 1:]))] = ids[i]
+        for t in sections.get("Triangles", []):
+            if int(t[3]) != label:
+                continue
+            ids = [int(x) - 1 for x in t[:3]]
+            a, b, c = (xyz[i] for i in ids)
+            u, v = [[q[i] - a[i] for i in range(3)] for q in (b, c)]
+            n = [(u[1] * v[2] - u[2] * v[1]) / 2, (u[2] * v[0] - u[0] * v[2]) / 2, (u[0] * v[1] - u[1] * v[0]) / 2]
+            d = xyz[other[tuple(sorted(ids))]]
+            if sum(n[i] * (d[i] - a[i]) for i in range(3)) > 0:
+                n = [-x for x in n]
+            total = [total[i] - pressure * n[i] for i in range(3)]
+        return total
+    with open(os.path.join(run, "mesh.msh")) as f:
+        nv, nt, ne = (int(x) for x in f.readline().split())
+        xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
+        other = {}
+        for _ in range(nt):
+            ids = [int(x) - 1 for x in f.readline().split()[:3]]
+            for i in range(3):
+                other[tuple(sorted(ids[:i] + ids[i + 1:]))] = ids[i]
+        for _ in range(ne):
+            i, j, lab = (int(x) for x in f.readline().split()[:3])
+            if lab != label:
+                continue
+            a, b, c = xy[i - 1], xy[j - 1], xy[other[tuple(sorted((i - 1, j - 1)))]]
+            n = [b[1] - a[1], a[0] - b[0]]                  # (|n| = the edge's length)
+            if n[0] * (c[0] - a[0]) + n[1] * (c[1] - a[1]) > 0:
+                n = [-x for x in n]
+            total = [total[0] - pressure * n[0], total[1] - pressure * n[1]]
+    return total
 
 
 def boundary_measure(boundary, dimension, labels):
@@ -208,6 +258,9 @@ class Run:
         if not self.rows:
             raise Failure("history.csv has no row")
         self.volume, self.boundary, self.dimension, areas = mesh_measures(path)
+        label, pressure = int(self.p.get("traction_label", "0")), float(self.p.get("traction", "0"))
+        self.traction = (traction_resultant(path, label, pressure, self.dimension) if label > 0 and pressure != 0
+                         else [0.0] * self.dimension)
         self.bodies = list(areas)
         # the mass, rho |body| (several bodies: a -rho list gives each its own, in the order of their labels)
         rhos = [float(r) for r in self.p["rho"].split(",")]
@@ -298,12 +351,15 @@ class Run:
         loads = {"x": float(self.p["fx"]), "y": float(self.p["fy"])}
         if self.dimension == 3:
             loads["z"] = float(self.p["fz"])
+        external = {k: self.volume * f for k, f in loads.items()}      # (f |body|, and -traction's resultant)
+        for k, r in zip("xyz", self.traction):
+            external[k] += r
         velocity = {"x": "v1_mean", "y": "v2_mean", "z": "v3_mean"}
         scheme = self.p.get("scheme", "midpoint")
         gamma = 0.5 if scheme == "verlet" else (float(self.p["newmark_gamma"]) if scheme == "newmark" else 1.0)
         forces = {k: self.col(f"contact_force_{k}") for k in loads}
         scale = max(max(abs(x) for x in forces[k]) for k in loads)
-        scale = max(scale, self.volume * max(abs(f) for f in loads.values()))
+        scale = max(scale, max(abs(f) for f in external.values()))
         speeds = {k: self.col(velocity[k]) for k in loads}
         # the momentum's own round-off: a sum of rho v over the nodes, whose speeds the energy bounds (E >= |M v|^2 / 2m),
         # though the mean may be 0 (a spinning body)
@@ -315,20 +371,20 @@ class Run:
         size += max(max(abs(x) for x in self.col(c)) for c in self.header if c in ("u1_low", "u2_low", "u3_low"))
         tol = (self.solver_round_off() * scale + mass * MOMENTUM_ROUND_OFF * speed / self.dt
                + mass * MOMENTUM_ROUND_OFF * 10 * size / self.dt ** 2)
-        for k, f in loads.items():
+        for k, f in external.items():
             v, c = speeds[k], forces[k]
             worst, where = 0.0, 0
             for n in range(1, len(v)):
                 force = gamma * c[n] + (1 - gamma) * c[n - 1]
-                residual = abs(mass * (v[n] - v[n - 1]) / self.dt - self.volume * f - force)
+                residual = abs(mass * (v[n] - v[n - 1]) / self.dt - f - force)
                 if residual > worst:
                     worst, where = residual, n
             if worst > tol:
                 n = where
-                due = (mass * (v[n] - v[n - 1]) / self.dt - self.volume * f - (1 - gamma) * c[n - 1]) / gamma
+                due = (mass * (v[n] - v[n - 1]) / self.dt - f - (1 - gamma) * c[n - 1]) / gamma
                 self.fail("momentum", f"contact_force_{k} is {c[n]:.10g} at {self.at(n)}, where (1) summed over a "
                                       f"translation gives {due:.10g} from {velocity[k]}'s change (rho |body| dv / dt - "
-                                      f"|body| f_{k}): they differ by {worst:.3g} (tolerance {tol:.3g})")
+                                      f"|body| f_{k} - the traction's): they differ by {worst:.3g} (tolerance {tol:.3g})")
 
     def foundation_fixed(self):
         kind = self.p.get("foundation")

@@ -230,6 +230,10 @@ def test_schur_complement_holds_only_the_known_columns(runs):
 BAD_GEOMETRY = {
     "no such Dirichlet label": ("test1", ["-dirichlet_label", "7"], "has no boundary edge with label 7 (Gamma_D"),
     "Gamma_D over Gamma_C": ("test1", ["-dirichlet_label", "1"], "Gamma_D must not overlap Gamma_C"),
+    "no such traction label": ("test1", ["-traction", "0.1", "-traction_label", "7"],
+                               "has no boundary edge with label 7 (Gamma_T, -traction_label); its labels are 1 2"),
+    "a traction on Gamma_D": ("cantilever", ["-traction", "0.1", "-traction_label", "3"],
+                              "-traction_label 3 is also -dirichlet_label: a traction on the clamped Gamma_D does nothing"),
     "reference outside": ("test1", ["-reference", "100,100"], "-reference (100, 100) is outside the body"),
     "probe outside": ("test1", ["-probes", "0,-5"], "-probes (0, -5) is outside the body"),
     "order 3": ("test1", ["-order", "3"], "-order must be an integer in [1, 2], got '3'"),
