@@ -126,6 +126,9 @@ REFUSED = [
                                           "its values)"),
     (["-T", "20"], "an edited -fy", "its parameters.txt was changed after the run wrote it (its checksum does not match "
                                     "the checkpoint's)"),
+    # a key that a later version added (FreeFEM crashed after this line, exit 1)
+    (["-T", "20"], "an older version's parameters.txt", "its parameters.txt does not record -traction_label (written by an "
+                                                        "older version?); start a new run"),
 ]
 
 
@@ -138,6 +141,10 @@ def test_refused_restart_leaves_the_run_byte_identical(tmp_path, finished, args,
         text = (out / "parameters.txt").read_text()
         (out / "parameters.txt").write_text(text.replace("\n-fy -0.10000000000000001\n", "\n-fy -0.2\n"))
         assert text != (out / "parameters.txt").read_text()
+    elif damage == "an older version's parameters.txt":
+        text = (out / "parameters.txt").read_text()
+        (out / "parameters.txt").write_text("".join(line for line in text.splitlines(True)
+                                                    if not line.startswith("-traction_label ")))
     elif damage:
         corrupt(out / "checkpoint.txt", damage)
     before = files_of(out)
