@@ -51,7 +51,7 @@ endif
 EDP_SOURCES := edp/contact.edp edp/run.sh $(wildcard edp/lib/*/*.idp edp/lib/*/*.awk edp/lib/*/*.sh edp/lib/*/*.txt edp/lib/*/*.opt)
 RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
-MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh meshes/two_disks_coarse.msh meshes/cradle_coarse.msh
+MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh meshes/two_disks_coarse.msh meshes/cradle_coarse.msh meshes/patch_fine.msh
 
 .PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check hostile same-results bench accuracy stress svk csm3 hertz methods friction sliding bodies scenes clean
 .DELETE_ON_ERROR:
@@ -294,7 +294,7 @@ sliding: meshes | deps-plot
 	$(PYTHON) postprocess/sliding.py --out $(RESULTS)/sliding --jobs $(JOBS) $(if $(NP),--np $(NP))
 
 # ---- bodies that hit bodies against their closed forms (postprocess/bodies.py, docs/bodies.md); results/bodies/summary.md
-bodies: meshes meshes/bars_fine.msh meshes/cradle_coarse.msh | deps-plot
+bodies: meshes meshes/bars_fine.msh meshes/cradle_coarse.msh meshes/patch_fine.msh | deps-plot
 	$(PYTHON) postprocess/bodies.py --out $(RESULTS)/bodies --jobs $(JOBS)
 
 # ---- every scene with the first line of its comment

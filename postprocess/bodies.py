@@ -9,7 +9,13 @@
   two materials      -mu 50,200 (impedances 10 and 20, dt 0.025): the force Z1 Z2 / (Z1 + Z2) 2 v0 = 0.1333 until
                      t = 1, its mean over (0.2, 0.8);
   cradle             three disks (cradle_coarse), the first struck at 0.1: the momentum's drift, the disks' velocities
-                     after (rigid balls on Hertz springs beside them: postprocess/cradle_ode.py, a 3D law).
+                     after (rigid balls on Hertz springs beside them: postprocess/cradle_ode.py, a 3D law);
+  stack              two stiff disks stacked on the floor (two_disks_coarse), started static: at the first step the
+                     floor's force against both weights (1e-12), the force between them against the upper one's (1e-8:
+                     a magnitude, with the tangential part the mesh's asymmetry leaves);
+  patch test         two blocks with non-matching meshes (patch, patch_fine) pressed by a uniform pressure p, started
+                     static: each node's pressure between them against p W0 / W (the deformed width), the floor's
+                     against p (1e-6).
 Each quantity against the issue's tolerance (2% for the bars, 1e-12 for the momentum): the table says which hold.
 Writes OUT/summary.md and OUT/bodies.csv; each run in OUT/<case>/. A run that fails stops the study with one
 `error:` line and exit status 1; a quantity outside its tolerance is a row of the table, not a failure.
@@ -20,6 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import audit  # noqa: E402
 import jobs  # noqa: E402
 import cradle_ode  # noqa: E402
 import hertz_analysis  # noqa: E402
@@ -35,7 +42,11 @@ RUNS = {
     "bars L and 2L": ("bars", QUIET + ["-mesh", "meshes/bars_1_2.msh", "-v0x", "0.01,0", "-T", "4"]),
     "two materials": ("bars", QUIET + ["-mu", "50,200", "-dt", "0.025"]),
     "cradle": ("cradle", QUIET + ["-mesh", "meshes/cradle_coarse.msh"]),
+    "stack": ("stack", QUIET + ["-mesh", "meshes/two_disks_coarse.msh"]),
+    "patch test": ("patch", QUIET + ["-snapshots", "0.5"]),
+    "patch test fine": ("patch", QUIET + ["-snapshots", "0.5", "-mesh", "meshes/patch_fine.msh"]),
 }
+PRESSURE = 0.1       # (the patch scene's -traction)
 
 
 def run_one(out, name):
@@ -47,7 +58,7 @@ def run_one(out, name):
     return name, p.wall
 
 
-def rows_of(name, h):
+def rows_of(name, h, where):
     """(quantity, this code, exact, tolerance: relative, or absolute when the exact value is 0) of a run."""
     t, f = h["t"], h["body_contact_force"]
     dt = t[1] - t[0]
@@ -71,6 +82,21 @@ def rows_of(name, h):
         window = (t > 0.2) & (t < 0.8)
         return [("mean force, t in (0.2, 0.8)", f[window].mean(), 10 * 20 / 30 * 2 * V0, 0.05),
                 ("momentum drift / (m v0)", momentum / (10 * V0), 0.0, 1e-12)]
+    if name == "stack":
+        areas = audit.mesh_measures(where)[3]
+        lower, upper = (0.1 * areas[k] for k in sorted(areas))
+        return [("floor force at step 1 / both weights", h["contact_force_y"][1] / (lower + upper), 1.0, 1e-12),
+                ("force between the disks at step 1 / upper weight", h["body_contact_force"][1] / upper, 1.0, 1e-8)]
+    if name.startswith("patch test"):
+        import meshio
+        vtu = meshio.read(os.path.join(where, "vonmises_t0.5.vtu"))
+        body, floor = vtu.point_data["body_pressure"].ravel(), vtu.point_data["contact_pressure"].ravel()
+        top, base = np.nonzero(body)[0], np.nonzero(floor)[0]
+        x = vtu.points[:, 0] + vtu.point_data["displacement"][:, 0]
+        width = x[top].max() - x[top].min()
+        return [("pressure between the blocks: largest miss of p W0 / W", np.abs(body[top] / (PRESSURE * 4 / width) - 1).max(),
+                 0.0, 1e-6),
+                ("floor pressure: largest miss of p", np.abs(floor[base] / PRESSURE - 1).max(), 0.0, 1e-6)]
     pair = hertz_analysis.hertz_two_balls(1e-3)      # (the 3D law's ratios do not depend on the speed)
     rigid = cradle_ode.strike([1e-3, 0, 0], [pair["m"]] * 3, pair["K"])["velocities"] / 1e-3
     return [("momentum drift / momentum", momentum / h["momentum_x"][0], 0.0, 1e-12)] + [
@@ -102,7 +128,8 @@ def main():
     csv = ["case,quantity,this_code,exact,tolerance"]
     outside = 0
     for name in RUNS:
-        for what, value, exact, tol in rows_of(name, read_run(os.path.join(out, name.replace(" ", "_")))):
+        where = os.path.join(out, name.replace(" ", "_"))
+        for what, value, exact, tol in rows_of(name, read_run(where), where):
             verdict = within(value, exact, tol)
             outside += verdict == "no"
             tol_text = "" if tol is None else f"{tol:g}"

@@ -196,6 +196,55 @@ def test_a_disk_falls_onto_a_disk_on_the_foundation(disk_on_disk):
     assert h["body_contact_force"][-1] > 0
 
 
+def test_a_stack_started_static_carries_the_weights(tmp_path):
+    """Two stiff disks stacked on the flat foundation (coarse), started at rest in static contact (-initial static: K w
+    = F - C' lm under the foundation's rows and those between the bodies, linearised again until they are the
+    result's own, each body's slide along the floor and turn held). The step (4) from that state is its equilibrium,
+    K u = F - C' lm: the floor carries both weights f |Omega_1| + f |Omega_2| to round-off (1e-12), and the lower disk
+    the upper one's weight, to 1e-8: the force between them is reported as a magnitude, and the mesh's asymmetry
+    leaves a tangential part, of the order of the holding force the start line reports (hold: 6e-5 of the load), whose
+    square adds 3e-9. The bodies stay at rest but for the slide that force drives, 2 hold f T at most (the upper disk
+    bears the whole load's 2 hold on its own weight)."""
+    sys.path.insert(0, os.path.join(ROOT, "postprocess"))
+    import audit
+    out = tmp_path / "stack"
+    p = run_scene("stack", out, ["-mesh", "meshes/two_disks_coarse.msh", "-progress", "0"], cwd=ROOT)
+    held = [line for line in p.stdout.splitlines() if line.startswith("initial state: at rest in static contact")]
+    hold = float(held[0].split("holding their slide and turn is ")[1].split()[0]) if held else 1
+    assert hold < 1e-3
+    areas = audit.mesh_measures(str(out))[3]
+    lower, upper = (0.1 * areas[k] for k in sorted(areas))
+    h = history(out)
+    assert abs(h["contact_force_y"][1] - (lower + upper)) <= 1e-12 * (lower + upper)
+    assert abs(h["body_contact_force"][1] - upper) <= 1e-8 * upper
+    for k in ("body1_v1_mean", "body1_v2_mean", "body2_v1_mean", "body2_v2_mean"):
+        assert np.abs(h[k]).max() <= 3 * hold * 0.1 * 2
+    assert h["max_penetration_bodies"].max() <= 1e-12 and h["max_penetration"].max() <= 1e-12
+
+
+@pytest.mark.parametrize("mesh,lam", [("patch", 30), ("patch_fine", 30), ("patch", 0)])
+def test_the_contact_patch_test(tmp_path, mesh, lam):
+    """The contact patch test (Taylor and Papadopoulos 1991): two blocks 4 x 1 on the flat foundation, their meshes
+    not matching along the interface (meshes/patch.geo: 9 against 7 segments; patch_fine: 18 against 14), pressed by
+    p = 0.1 on the upper block's top (-traction), started in static contact. The exact stress is uniform, -p in X2,
+    which P1 holds exactly: each dual mortar multiplier at the lower block's top nodes (the snapshot's body_pressure)
+    is p, to 1e-6 (measured 1e-14), as a force per length of the deformed interface, p W0 / W (lambda = 30: Poisson's
+    expansion widens the blocks by 4e-4; lambda = 0: none, p itself), and the floor's pressure at each node is p."""
+    import meshio
+    out = tmp_path / "patch"
+    run_scene("patch", out, ["-mesh", f"meshes/{mesh}.msh", "-lambda", str(lam), "-snapshots", "0.5", "-progress", "0"],
+              cwd=ROOT)
+    vtu = meshio.read(out / "vonmises_t0.5.vtu")
+    body, floor = vtu.point_data["body_pressure"].ravel(), vtu.point_data["contact_pressure"].ravel()
+    top, base = np.nonzero(body)[0], np.nonzero(floor)[0]
+    x = vtu.points[:, 0] + vtu.point_data["displacement"][:, 0]
+    width = x[top].max() - x[top].min()
+    assert len(top) == {"patch": 10, "patch_fine": 19}[mesh] and len(base) == len(top)
+    assert np.abs(body[top] / (0.1 * 4 / width) - 1).max() <= 1e-6
+    assert np.abs(floor[base] / 0.1 - 1).max() <= 1e-6
+    assert (width - 4 > 1e-4) == (lam > 0)
+
+
 def test_a_cradle_of_three_disks_passes_the_momentum_along(tmp_path):
     """Three disks in a row (meshes/cradle.geo, coarse), the first struck at 0.1 towards the others: the middle disk
     is a master to the first and a slave to the third, and each pair's forces cancel, so the total momentum stays
