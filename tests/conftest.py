@@ -162,7 +162,9 @@ NH = ["-material", "neohookean"]
 NH_SPIN_DTS = ("0.1", "0.05", "0.025")
 RUNS.update({
     "neohookean_test1": ("test1", NH + ["-T", "120", "-snapshots", "15.25"]),
-    **{f"neohookean_test2_t1_{t1}": ("test2", NH + ["-T", "120", "-t1", t1, "-snapshots", "none"]) for t1 in ("18", "22", "26")},
+    # (t1 = 18 to the paper's horizon; 22 and 26 past their first rebound, T = 45)
+    **{f"neohookean_test2_t1_{t1}": ("test2", NH + ["-T", T, "-t1", t1, "-snapshots", "none"])
+       for t1, T in (("18", "120"), ("22", "45"), ("26", "45"))},
     "neohookean_spin": ("spin", NH + ["-snapshots", "none"]),
     **{f"neohookean_spin_dt{dt}": ("spin", NH + ["-dt", dt, "-T", "10", "-snapshots", "none", "-probes", "0,40,20,20"])
        for dt in NH_SPIN_DTS},

@@ -71,14 +71,15 @@ def test_neohookean_free_fall_is_exact_before_impact(histories, name):
 
 @pytest.mark.parametrize("t1", NH_TEST2)
 def test_neohookean_test2_to_the_papers_horizon(histories, run_status, t1):
-    """The paper's Test 2 (the foundation lowered by 2 on [9, t1]) to T = 120 with the Neo-Hookean body:
+    """The paper's Test 2 (the foundation lowered by 2 on [9, t1]) with the Neo-Hookean body, t1 = 18 to the paper's
+    T = 120, 22 and 26 to T = 45, past their first rebound:
     it completes with J > 0 (measured min J 0.69 to 0.71); the foundation only descends, so u^n is in
     K^{n+1} and the modified energy never rises in a step (Prop. 2; measured <= 4.6e-14 relative);
     (10) holds to round-off; and, as for the linear body (Section 4.2), the foundation absorbs energy
     on [t0, t1] and the first rebound is lower than on the fixed foundation."""
     name = f"neohookean_test2_t1_{t1}"
     h, h1 = histories[name], histories["neohookean_test1"]
-    assert run_status[name][0] == 0 and h["t"][-1] == 120
+    assert run_status[name][0] == 0 and h["t"][-1] == (120 if t1 == "18" else 45)
     m = h["modified_energy"]
     assert np.diff(m).max() < 1e-12 * abs(m[0]), f"{name}: modified energy rises by {np.diff(m).max():.3g} in a step"
     assert h["max_penetration"].max() < 1e-9 and h["contact_pressure_low"].min() >= 0
