@@ -53,7 +53,7 @@ RUN := edp/run.sh
 # every meshes/NAME.geo gives meshes/NAME.msh (refine 1); the disk also a coarser and a finer one, the Hertz ball a coarser one
 MESHES := $(patsubst %.geo,%.msh,$(wildcard meshes/*.geo)) meshes/disk_coarse.msh meshes/disk_fine.msh meshes/hertz_coarse.msh meshes/two_disks_coarse.msh meshes/cradle_coarse.msh meshes/patch_fine.msh
 
-.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check hostile same-results bench accuracy stress svk csm3 hertz methods friction sliding bodies scenes clean
+.PHONY: all paper plugins deps deps-packages deps-run deps-plot deps-test meshes run animation test1 test2 figures ball check hostile same-results bench bench-one-body accuracy stress svk csm3 hertz methods friction sliding bodies scenes clean
 .DELETE_ON_ERROR:
 
 all: paper
@@ -256,6 +256,10 @@ same-results: meshes | deps-run
 bench: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh meshes/ball_medium.msh meshes/ball_refine4.msh \
        meshes/ball_refine6.msh | deps-plot
 	$(PYTHON) postprocess/bench.py --out $(RESULTS)/bench $(BENCH_ARGS)
+
+# ---- a mesh of one body against the driver before bodies (b78442c^), side by side (postprocess/bench_one_body.py)
+bench-one-body: meshes | deps-plot
+	$(PYTHON) postprocess/bench_one_body.py --out $(RESULTS)/bench
 
 # ---- what accuracy costs in time (work-precision study; see postprocess/accuracy.py)
 accuracy: meshes meshes/disk_refine4.msh meshes/disk_refine8.msh | deps-plot
