@@ -82,12 +82,9 @@ def main():
             print(lines[-1], flush=True)
     finally:
         subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", rev_tree], capture_output=True)
-    text = "\n".join(lines) + f"\n\nMedians of {a.repeat} runs each, the two trees alternated.\n"
-    with open(os.path.join(out, "bench_one_body.md"), "w") as f:
-        f.write(text)
-    with open(os.path.join(out, "bench_one_body.csv"), "w") as f:
-        f.write("\n".join(csv) + "\n")
-    print(text)
+    jobs.write_files(out, {"bench_one_body.md": "\n".join(lines) + f"\n\nMedians of {a.repeat} runs each, the two trees "
+                                                                     "alternated.\n",
+                           "bench_one_body.csv": "\n".join(csv) + "\n"})
 
 
 if __name__ == "__main__":

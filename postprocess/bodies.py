@@ -135,12 +135,8 @@ def main():
             tol_text = "" if tol is None else f"{tol:g}"
             lines.append(f"| {name} | {what} | {value:.6g} | {exact:.6g} | {tol_text} | {verdict} |")
             csv.append(f"{name},{what},{value:.9g},{exact:.9g},{tol_text}")
-    text = "\n".join(lines) + f"\n\n{outside} of the quantities with a tolerance are outside it.\n"
-    with open(os.path.join(out, "summary.md"), "w") as f:
-        f.write(text)
-    with open(os.path.join(out, "bodies.csv"), "w") as f:
-        f.write("\n".join(csv) + "\n")
-    print(text)
+    jobs.write_files(out, {"summary.md": "\n".join(lines) + f"\n\n{outside} of the quantities with a tolerance are outside it.\n",
+                           "bodies.csv": "\n".join(csv) + "\n"})
     print(f"bodies: {os.path.join(a.out, 'summary.md')}")
 
 

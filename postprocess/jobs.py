@@ -224,3 +224,11 @@ def run_parallel(fn, items, jobs):
             yield fut.result()
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
+
+
+def write_files(out, texts):
+    """Each text into out/name (a study's tables: summary.md and its CSV), then the first printed."""
+    for name, text in texts.items():
+        with open(os.path.join(out, name), "w") as f:
+            f.write(text)
+    print(next(iter(texts.values())))
