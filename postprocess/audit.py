@@ -97,22 +97,25 @@ def mesh_measures(run):
     if os.path.exists(os.path.join(run, "mesh.mesh")):
         volume, faces = medit_measures(os.path.join(run, "mesh.mesh"))
         return volume, faces, 3, {1: volume}
-    areas = {}
-    with open(os.path.join(run, "mesh.msh")) as f:
+    xy, cells, edges = freefem_mesh(os.path.join(run, "mesh.msh"))
+    areas, area = {}, 0.0
+    for i, j, k, label in cells:
+        a, b, c = xy[i], xy[j], xy[k]
+        cell = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
+        area += cell
+        areas[label] = areas.get(label, 0.0) + cell
+    return area, [(xy[i], xy[j], label) for i, j, label in edges], 2, dict(sorted(areas.items()))
+
+
+def freefem_mesh(path):
+    """FreeFEM's 2D mesh file: the vertices (x, y), the triangles (i, j, k, region label) and the boundary edges
+    (i, j, label), numbered from 0."""
+    with open(path) as f:
         nv, nt, ne = (int(x) for x in f.readline().split())
         xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
-        area = 0.0
-        for _ in range(nt):
-            i, j, k, label = f.readline().split()[:4]
-            a, b, c = xy[int(i) - 1], xy[int(j) - 1], xy[int(k) - 1]
-            cell = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
-            area += cell
-            areas[int(label)] = areas.get(int(label), 0.0) + cell
-        edges = []
-        for _ in range(ne):
-            i, j, label = f.readline().split()[:3]
-            edges.append((xy[int(i) - 1], xy[int(j) - 1], int(label)))
-    return area, edges, 2, dict(sorted(areas.items()))
+        cells = [tuple(int(x) - (1 if n < 3 else 0) for n, x in enumerate(f.readline().split()[:4])) for _ in range(nt)]
+        edges = [tuple(int(x) - (1 if n < 2 else 0) for n, x in enumerate(f.readline().split()[:3])) for _ in range(ne)]
+    return xy, cells, edges
 
 
 def medit_sections(path):
@@ -168,23 +171,19 @@ def traction_resultant(run, label, pressure, dimension):
                 n = [-x for x in n]
             total = [total[i] - pressure * n[i] for i in range(3)]
         return total
-    with open(os.path.join(run, "mesh.msh")) as f:
-        nv, nt, ne = (int(x) for x in f.readline().split())
-        xy = [tuple(float(x) for x in f.readline().split()[:2]) for _ in range(nv)]
-        other = {}
-        for _ in range(nt):
-            ids = [int(x) - 1 for x in f.readline().split()[:3]]
-            for i in range(3):
-                other[tuple(sorted(ids[:i] + ids[i + 1:]))] = ids[i]
-        for _ in range(ne):
-            i, j, lab = (int(x) for x in f.readline().split()[:3])
-            if lab != label:
-                continue
-            a, b, c = xy[i - 1], xy[j - 1], xy[other[tuple(sorted((i - 1, j - 1)))]]
-            n = [b[1] - a[1], a[0] - b[0]]                  # (|n| = the edge's length)
-            if n[0] * (c[0] - a[0]) + n[1] * (c[1] - a[1]) > 0:
-                n = [-x for x in n]
-            total = [total[0] - pressure * n[0], total[1] - pressure * n[1]]
+    xy, cells, edges = freefem_mesh(os.path.join(run, "mesh.msh"))
+    other = {}
+    for cell in cells:
+        for i in range(3):
+            other[tuple(sorted(cell[:i] + cell[i + 1:3]))] = cell[i]
+    for i, j, lab in edges:
+        if lab != label:
+            continue
+        a, b, c = xy[i], xy[j], xy[other[tuple(sorted((i, j)))]]
+        n = [b[1] - a[1], a[0] - b[0]]                  # (|n| = the edge's length)
+        if n[0] * (c[0] - a[0]) + n[1] * (c[1] - a[1]) > 0:
+            n = [-x for x in n]
+        total = [total[0] - pressure * n[0], total[1] - pressure * n[1]]
     return total
 
 
